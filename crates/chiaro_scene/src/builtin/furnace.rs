@@ -1,0 +1,41 @@
+//! The white-furnace test: the inside of a closed sphere whose surface is diffuse with albedo 0.5
+//! and emits radiance 0.5 everywhere. Every path sees L = 0.5 + 0.5 L, so the exact radiance in
+//! every pixel is 1. The material's IOR is 1 (F0 = 0) so that its only lobe is the diffuse one.
+
+use glam::Vec3;
+
+use crate::components::{Camera, Projection};
+use crate::error::SceneError;
+use crate::material::Material;
+use crate::scene_builder::{Node, SceneBuilder};
+use crate::transform::Transform;
+
+use super::shapes::icosphere;
+
+/// Subdivision level of the sphere: 20 * 4^4 = 5120 triangles.
+pub const FURNACE_SUBDIVISION: u32 = 4;
+
+pub(super) fn build(b: &mut SceneBuilder) -> Result<(), SceneError> {
+    let mut shell = Material::diffuse("furnace shell", Vec3::splat(0.5), 1.0);
+    shell.emissive = Vec3::splat(0.5);
+    shell.ior = 1.0;
+    shell.double_sided = true;
+    let material = b.add_material(shell);
+    if let Some(mesh) = b.add_mesh("mesh \"sphere\"", "sphere", icosphere(FURNACE_SUBDIVISION, true))? {
+        b.add_instance("sphere", mesh, material, Transform::IDENTITY.with_scale(Vec3::splat(10.0)));
+    }
+    b.add_node(Node {
+        name: Some("camera".into()),
+        transform: Transform::looking_at(Vec3::new(0.0, 1.0, 2.0), Vec3::new(0.0, 0.0, -3.0), Vec3::Y),
+        camera: Some(Camera {
+            projection: Projection::Perspective {
+                yfov: 60f32.to_radians(),
+                aspect_ratio: None,
+                znear: 0.01,
+                zfar: None,
+            },
+        }),
+        ..Node::default()
+    });
+    Ok(())
+}

@@ -1,0 +1,182 @@
+//! Mesh data for the built-in scenes: quads, boxes and icospheres, with flat or smooth normals.
+
+use std::collections::HashMap;
+
+use glam::{Vec2, Vec3};
+
+use crate::mesh_repair::MeshData;
+
+/// A planar quad through corners `c` (in order around the edge), two triangles wound so their
+/// normal points to the `facing` side, flat normals and UVs over [0, 1]^2.
+pub fn quad(c: [Vec3; 4], facing: Vec3) -> MeshData {
+    let mut data = MeshData::default();
+    append_quad(&mut data, c, facing);
+    data
+}
+
+/// Appends a quad (see [`quad`]) to `data`.
+pub fn append_quad(data: &mut MeshData, c: [Vec3; 4], facing: Vec3) {
+    let mut normal = (c[1] - c[0]).cross(c[2] - c[0]).normalize();
+    let mut order = [0usize, 1, 2, 3];
+    if normal.dot(facing) < 0.0 {
+        normal = -normal;
+        order = [0, 3, 2, 1];
+    }
+    let base = data.positions.len() as u32;
+    let uvs = [Vec2::ZERO, Vec2::X, Vec2::ONE, Vec2::Y];
+    for &k in &order {
+        data.positions.push(c[k]);
+        data.normals.get_or_insert_with(Vec::new).push(normal);
+        data.uvs[0].get_or_insert_with(Vec::new).push(uvs[k]);
+    }
+    data.indices
+        .get_or_insert_with(Vec::new)
+        .extend([0, 1, 2, 0, 2, 3].map(|i| base + i));
+}
+
+/// An axis-aligned square of side `size` in the XZ plane at y = 0, facing +Y.
+pub fn floor(size: f32) -> MeshData {
+    let h = 0.5 * size;
+    quad(
+        [
+            Vec3::new(-h, 0.0, -h),
+            Vec3::new(h, 0.0, -h),
+            Vec3::new(h, 0.0, h),
+            Vec3::new(-h, 0.0, h),
+        ],
+        Vec3::Y,
+    )
+}
+
+/// An axis-aligned box from `min` to `max`, six outward-facing quads (12 triangles).
+pub fn cuboid(min: Vec3, max: Vec3) -> MeshData {
+    let mut data = MeshData::default();
+    let center = 0.5 * (min + max);
+    let corner = |x: usize, y: usize, z: usize| {
+        Vec3::new([min.x, max.x][x], [min.y, max.y][y], [min.z, max.z][z])
+    };
+    let faces = [
+        [corner(0, 0, 0), corner(0, 1, 0), corner(0, 1, 1), corner(0, 0, 1)],
+        [corner(1, 0, 0), corner(1, 1, 0), corner(1, 1, 1), corner(1, 0, 1)],
+        [corner(0, 0, 0), corner(1, 0, 0), corner(1, 0, 1), corner(0, 0, 1)],
+        [corner(0, 1, 0), corner(1, 1, 0), corner(1, 1, 1), corner(0, 1, 1)],
+        [corner(0, 0, 0), corner(1, 0, 0), corner(1, 1, 0), corner(0, 1, 0)],
+        [corner(0, 0, 1), corner(1, 0, 1), corner(1, 1, 1), corner(0, 1, 1)],
+    ];
+    for f in faces {
+        let face_center = 0.25 * (f[0] + f[1] + f[2] + f[3]);
+        append_quad(&mut data, f, face_center - center);
+    }
+    data
+}
+
+/// A unit-radius icosphere: an icosahedron subdivided `level` times (20 * 4^level triangles),
+/// smooth normals, equirectangular UVs. `inward` flips winding and normals (to be seen from
+/// inside).
+pub fn icosphere(level: u32, inward: bool) -> MeshData {
+    let t = (1.0 + 5f32.sqrt()) / 2.0;
+    let mut positions: Vec<Vec3> = [
+        (-1.0, t, 0.0), (1.0, t, 0.0), (-1.0, -t, 0.0), (1.0, -t, 0.0),
+        (0.0, -1.0, t), (0.0, 1.0, t), (0.0, -1.0, -t), (0.0, 1.0, -t),
+        (t, 0.0, -1.0), (t, 0.0, 1.0), (-t, 0.0, -1.0), (-t, 0.0, 1.0),
+    ]
+    .iter()
+    .map(|&(x, y, z)| Vec3::new(x, y, z).normalize())
+    .collect();
+    let mut faces: Vec<[u32; 3]> = vec![
+        [0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11],
+        [1, 5, 9], [5, 11, 4], [11, 10, 2], [10, 7, 6], [7, 1, 8],
+        [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8], [3, 8, 9],
+        [4, 9, 5], [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1],
+    ];
+    for _ in 0..level {
+        let mut midpoints: HashMap<(u32, u32), u32> = HashMap::new();
+        let mut midpoint = |a: u32, b: u32, positions: &mut Vec<Vec3>| {
+            *midpoints.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                positions.push((positions[a as usize] + positions[b as usize]).normalize());
+                positions.len() as u32 - 1
+            })
+        };
+        faces = faces
+            .iter()
+            .flat_map(|&[a, b, c]| {
+                let ab = midpoint(a, b, &mut positions);
+                let bc = midpoint(b, c, &mut positions);
+                let ca = midpoint(c, a, &mut positions);
+                [[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]
+            })
+            .collect();
+    }
+    let sign = if inward { -1.0 } else { 1.0 };
+    let uvs = positions
+        .iter()
+        .map(|p| {
+            Vec2::new(
+                0.5 + p.z.atan2(p.x) / std::f32::consts::TAU,
+                p.y.clamp(-1.0, 1.0).acos() / std::f32::consts::PI,
+            )
+        })
+        .collect();
+    let indices = faces
+        .into_iter()
+        .flat_map(|[a, b, c]| if inward { [a, c, b] } else { [a, b, c] })
+        .collect();
+    MeshData {
+        normals: Some(positions.iter().map(|&p| p * sign).collect()),
+        positions,
+        uvs: [Some(uvs), None],
+        indices: Some(indices),
+        ..MeshData::default()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::Mesh;
+
+    fn outward_fraction(data: &MeshData, center: Vec3) -> f32 {
+        let idx = data.indices.as_ref().unwrap();
+        let out = idx
+            .chunks_exact(3)
+            .filter(|t| {
+                let p = t.iter().map(|&i| data.positions[i as usize]).collect::<Vec<_>>();
+                let n = (p[1] - p[0]).cross(p[2] - p[0]);
+                n.dot((p[0] + p[1] + p[2]) / 3.0 - center) > 0.0
+            })
+            .count();
+        out as f32 / (idx.len() / 3) as f32
+    }
+
+    #[test]
+    fn icosphere_has_the_expected_triangles_and_winding() {
+        for level in 0..3 {
+            let (mesh, repairs) = Mesh::new("s", icosphere(level, false)).unwrap();
+            assert!(repairs.is_empty());
+            assert_eq!(mesh.triangle_count(), 20 * 4usize.pow(level));
+        }
+        assert_eq!(outward_fraction(&icosphere(2, false), Vec3::ZERO), 1.0);
+        assert_eq!(outward_fraction(&icosphere(2, true), Vec3::ZERO), 0.0);
+    }
+
+    #[test]
+    fn cuboid_faces_point_out() {
+        let data = cuboid(Vec3::ZERO, Vec3::new(1.0, 2.0, 3.0));
+        assert_eq!(data.indices.as_ref().unwrap().len(), 36);
+        assert_eq!(outward_fraction(&data, Vec3::new(0.5, 1.0, 1.5)), 1.0);
+        for (p, n) in data.positions.iter().zip(data.normals.as_ref().unwrap()) {
+            assert!(n.dot(*p - Vec3::new(0.5, 1.0, 1.5)) > 0.0);
+        }
+    }
+
+    #[test]
+    fn quad_faces_the_requested_side() {
+        let c = [Vec3::ZERO, Vec3::X, Vec3::new(1.0, 0.0, 1.0), Vec3::Z];
+        for facing in [Vec3::Y, Vec3::NEG_Y] {
+            let data = quad(c, facing);
+            let p = &data.positions;
+            assert!((p[1] - p[0]).cross(p[2] - p[0]).dot(facing) > 0.0);
+            assert_eq!(data.normals.as_ref().unwrap()[0], facing);
+        }
+    }
+}

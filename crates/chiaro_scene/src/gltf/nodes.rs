@@ -1,0 +1,365 @@
+//! The glTF node graph: checked to be a forest, walked from the chosen scene's roots (parents
+//! before children, with an explicit stack), each node turned into a builder [`Node`] with its
+//! transform, mesh primitives, light and camera.
+
+use std::collections::HashMap;
+
+use glam::{Mat4, Quat, Vec3};
+
+use crate::components::{Camera, Light, LightKind, MeshInstance, Projection};
+use crate::error::{Fault, SceneError};
+use crate::gltf::accessor::AccessorReader;
+use crate::gltf::primitives::{Converted, convert_primitive};
+use crate::material::{Material, MaterialId};
+use crate::mesh::MeshId;
+use crate::scene_builder::{Node, NodeIndex, SceneBuilder};
+use crate::transform::Transform;
+
+/// Smallest scale magnitude that is not treated as singular.
+pub const MIN_SCALE: f32 = 1e-20;
+
+/// `kind index ("name")`, the way every message names a glTF element.
+pub(crate) fn element(kind: &str, index: usize, name: Option<&str>) -> String {
+    match name {
+        Some(name) => format!("{kind} {index} ({name:?})"),
+        None => format!("{kind} {index}"),
+    }
+}
+
+/// Each node's parent, refusing a node with two parents and any cycle.
+fn parents(document: &gltf::Document) -> Result<Vec<Option<usize>>, (String, String)> {
+    let count = document.nodes().len();
+    let mut parent: Vec<Option<usize>> = vec![None; count];
+    for node in document.nodes() {
+        for child in node.children() {
+            let c = child.index();
+            if c == node.index() {
+                return Err((element("node", c, child.name()), "is its own child".into()));
+            }
+            if let Some(p) = parent[c] {
+                return Err((
+                    element("node", c, child.name()),
+                    format!("is a child of both node {p} and node {}: the node graph is not a tree", node.index()),
+                ));
+            }
+            parent[c] = Some(node.index());
+        }
+    }
+    // With one parent each, a cycle is a walk up the parents that comes back to itself.
+    let mut state = vec![0u8; count]; // 0 unseen, 1 on the current walk, 2 known acyclic
+    for start in 0..count {
+        let mut walk = Vec::new();
+        let mut at = Some(start);
+        while let Some(n) = at {
+            match state[n] {
+                2 => break,
+                1 => return Err((format!("node {n}"), "is its own ancestor: the node graph has a cycle".into())),
+                _ => {
+                    state[n] = 1;
+                    walk.push(n);
+                    at = parent[n];
+                }
+            }
+        }
+        for n in walk {
+            state[n] = 2;
+        }
+    }
+    Ok(parent)
+}
+
+/// A node's local transform: `Ok(None)` when it is singular (zero scale), an error when it is
+/// not finite. A non-unit rotation is normalised; a matrix with shear is approximated by its
+/// scale-rotation-translation part, with a repair line.
+fn node_transform(node: &gltf::Node, repairs: &mut Vec<String>) -> Result<Option<Transform>, Fault> {
+    let (translation, rotation, scale) = match node.transform() {
+        gltf::scene::Transform::Matrix { matrix } => {
+            let m = Mat4::from_cols_array_2d(&matrix);
+            if !m.is_finite() {
+                return Err(Fault::NonFiniteTransform(format!("matrix {matrix:?}")));
+            }
+            if m.determinant().abs() < MIN_SCALE.powi(3) {
+                return Ok(None);
+            }
+            let (s, r, t) = m.to_scale_rotation_translation();
+            let rebuilt = Mat4::from_scale_rotation_translation(s, r, t);
+            if !rebuilt.abs_diff_eq(m, 1e-4 * m.abs().to_cols_array().iter().fold(1.0f32, |a, &b| a.max(b))) {
+                repairs.push("matrix has shear or projection: approximated by scale, rotation and translation".into());
+            }
+            (t, r, s)
+        }
+        gltf::scene::Transform::Decomposed { translation, rotation, scale } => {
+            let (t, q, s) = (Vec3::from(translation), Quat::from_array(rotation), Vec3::from(scale));
+            if !t.is_finite() || !q.is_finite() || !s.is_finite() {
+                return Err(Fault::NonFiniteTransform(format!(
+                    "translation {translation:?}, rotation {rotation:?}, scale {scale:?}"
+                )));
+            }
+            let len = q.length();
+            let q = if len < 1e-6 {
+                repairs.push(format!("rotation {rotation:?} has no direction: identity used"));
+                Quat::IDENTITY
+            } else {
+                if (len - 1.0).abs() > 1e-3 {
+                    repairs.push(format!("rotation {rotation:?} is not unit length: normalised"));
+                }
+                q / len
+            };
+            (t, q, s)
+        }
+    };
+    if scale.abs().min_element() < MIN_SCALE {
+        return Ok(None);
+    }
+    Ok(Some(Transform { translation, rotation, scale }))
+}
+
+fn light(l: &gltf::khr_lights_punctual::Light, repairs: &mut Vec<String>) -> Result<Light, Fault> {
+    let color = Vec3::from(l.color());
+    let intensity = l.intensity();
+    if !color.is_finite() || color.min_element() < 0.0 || !intensity.is_finite() || intensity < 0.0 {
+        return Err(Fault::Light(format!(
+            "colour {color} and intensity {intensity} must be finite and non-negative"
+        )));
+    }
+    let range = match l.range() {
+        Some(r) if r.is_finite() && r > 0.0 => Some(r),
+        Some(r) => {
+            repairs.push(format!("range {r} is not positive: unlimited range used"));
+            None
+        }
+        None => None,
+    };
+    let kind = match l.kind() {
+        gltf::khr_lights_punctual::Kind::Point => LightKind::Point,
+        gltf::khr_lights_punctual::Kind::Directional => LightKind::Directional,
+        gltf::khr_lights_punctual::Kind::Spot { inner_cone_angle, outer_cone_angle } => {
+            let half_pi = std::f32::consts::FRAC_PI_2;
+            let outer = if outer_cone_angle.is_finite() { outer_cone_angle.clamp(1e-4, half_pi) } else { half_pi };
+            let inner = if inner_cone_angle.is_finite() { inner_cone_angle.clamp(0.0, outer * 0.999) } else { 0.0 };
+            if inner != inner_cone_angle || outer != outer_cone_angle {
+                repairs.push(format!(
+                    "spot cone ({inner_cone_angle}, {outer_cone_angle}) outside 0 <= inner < outer <= pi/2: \
+                     ({inner}, {outer}) used"
+                ));
+            }
+            LightKind::Spot { inner_cone_angle: inner, outer_cone_angle: outer }
+        }
+    };
+    Ok(Light { kind, color, intensity, range })
+}
+
+fn camera(c: &gltf::Camera) -> Result<Camera, Fault> {
+    let bad = |why: String| Err(Fault::Camera(why));
+    let projection = match c.projection() {
+        gltf::camera::Projection::Perspective(p) => {
+            let (yfov, znear, zfar, aspect) = (p.yfov(), p.znear(), p.zfar(), p.aspect_ratio());
+            if !(yfov.is_finite() && yfov > 0.0 && yfov < std::f32::consts::PI) {
+                return bad(format!("yfov {yfov} is outside (0, pi)"));
+            }
+            if !(znear.is_finite() && znear > 0.0) {
+                return bad(format!("znear {znear} is not positive"));
+            }
+            if let Some(zfar) = zfar
+                && !(zfar > znear)
+            {
+                return bad(format!("zfar {zfar} is not greater than znear {znear}"));
+            }
+            if let Some(a) = aspect
+                && !(a.is_finite() && a > 0.0)
+            {
+                return bad(format!("aspect ratio {a} is not positive"));
+            }
+            Projection::Perspective { yfov, aspect_ratio: aspect, znear, zfar: zfar.filter(|z| z.is_finite()) }
+        }
+        gltf::camera::Projection::Orthographic(o) => {
+            let (xmag, ymag, znear, zfar) = (o.xmag(), o.ymag(), o.znear(), o.zfar());
+            if !(xmag.is_finite() && ymag.is_finite() && xmag != 0.0 && ymag != 0.0) {
+                return bad(format!("xmag {xmag} and ymag {ymag} must be finite and non-zero"));
+            }
+            if !(znear.is_finite() && znear >= 0.0 && zfar.is_finite() && zfar > znear) {
+                return bad(format!("znear {znear} and zfar {zfar} must satisfy 0 <= znear < zfar"));
+            }
+            Projection::Orthographic { xmag: xmag.abs(), ymag: ymag.abs(), znear, zfar }
+        }
+    };
+    Ok(Camera { projection })
+}
+
+/// Walks the chosen scene into the builder.
+pub(crate) struct NodeImporter<'a> {
+    pub document: &'a gltf::Document,
+    pub reader: AccessorReader<'a>,
+    pub builder: &'a mut SceneBuilder,
+    /// The file's materials, already in the builder with ids equal to their glTF index.
+    pub materials: &'a [Material],
+    meshes: HashMap<(usize, usize), Option<MeshId>>,
+    default_material: Option<MaterialId>,
+}
+
+impl<'a> NodeImporter<'a> {
+    pub fn new(
+        document: &'a gltf::Document,
+        reader: AccessorReader<'a>,
+        builder: &'a mut SceneBuilder,
+        materials: &'a [Material],
+    ) -> Self {
+        Self { document, reader, builder, materials, meshes: HashMap::new(), default_material: None }
+    }
+
+    fn error(&self, element: String, fault: Fault) -> SceneError {
+        SceneError::at(self.builder.source().to_owned(), element, fault)
+    }
+
+    /// Imports the default scene, or the first, or (with no scenes) every root node.
+    pub fn import(&mut self) -> Result<(), SceneError> {
+        let parent = parents(self.document).map_err(|(e, why)| self.error(e, Fault::Hierarchy(why)))?;
+        let scene = self.document.default_scene().or_else(|| self.document.scenes().next());
+        let roots: Vec<usize> = match &scene {
+            Some(scene) => scene.nodes().map(|n| n.index()).collect(),
+            None => (0..parent.len()).filter(|&n| parent[n].is_none()).collect(),
+        };
+        let mut seen = vec![false; parent.len()];
+        for &root in &roots {
+            let scene_name = scene.as_ref().map_or_else(String::new, |s| element("scene", s.index(), s.name()));
+            if let Some(p) = parent[root] {
+                return Err(self.error(
+                    scene_name,
+                    Fault::Hierarchy(format!("lists node {root} as a root, but it is a child of node {p}")),
+                ));
+            }
+            if std::mem::replace(&mut seen[root], true) {
+                return Err(self.error(scene_name, Fault::Hierarchy(format!("lists node {root} twice"))));
+            }
+        }
+        let nodes: Vec<gltf::Node> = self.document.nodes().collect();
+        let mut stack: Vec<(usize, Option<NodeIndex>)> = roots.into_iter().rev().map(|r| (r, None)).collect();
+        while let Some((index, parent_node)) = stack.pop() {
+            let Some(node) = nodes.get(index) else { continue };
+            if let Some(added) = self.node(node, parent_node)? {
+                let children: Vec<usize> = node.children().map(|c| c.index()).collect();
+                stack.extend(children.into_iter().rev().map(|c| (c, Some(added))));
+            }
+        }
+        Ok(())
+    }
+
+    /// Adds one node; `None` when it is singular and its subtree is skipped.
+    fn node(&mut self, node: &gltf::Node, parent: Option<NodeIndex>) -> Result<Option<NodeIndex>, SceneError> {
+        let name = element("node", node.index(), node.name());
+        let mut repairs = Vec::new();
+        let transform = node_transform(node, &mut repairs).map_err(|f| self.error(name.clone(), f))?;
+        let Some(transform) = transform else {
+            let skipped = count_subtree(node);
+            self.builder.repair(
+                name,
+                format!("has a singular (zero-scale) transform: it and its subtree ({skipped} nodes) are skipped"),
+            );
+            return Ok(None);
+        };
+        let light = match node.light() {
+            Some(l) => Some(light(&l, &mut repairs).map_err(|f| {
+                self.error(format!("{name}, {}", element("light", l.index(), l.name())), f)
+            })?),
+            None => None,
+        };
+        let camera = match node.camera() {
+            Some(c) => Some(camera(&c).map_err(|f| {
+                self.error(format!("{name}, {}", element("camera", c.index(), c.name())), f)
+            })?),
+            None => None,
+        };
+        for r in repairs {
+            self.builder.repair(name.clone(), r);
+        }
+        let instances = match node.mesh() {
+            Some(mesh) => self.instances(&mesh)?,
+            None => Vec::new(),
+        };
+        let added = self.builder.add_node(Node {
+            name: Some(node.name().map_or_else(|| name.clone(), str::to_owned)),
+            parent,
+            transform,
+            instance: (instances.len() == 1).then(|| instances[0]),
+            light,
+            camera,
+            source_node: Some(node.index() as u32),
+        });
+        if instances.len() > 1 {
+            for (k, instance) in instances.into_iter().enumerate() {
+                self.builder.add_node(Node {
+                    name: Some(format!("{name} primitive {k}")),
+                    parent: Some(added),
+                    instance: Some(instance),
+                    ..Node::default()
+                });
+            }
+        }
+        Ok(Some(added))
+    }
+
+    /// One instance per drawable primitive of the mesh, converting each primitive once.
+    fn instances(&mut self, mesh: &gltf::Mesh) -> Result<Vec<MeshInstance>, SceneError> {
+        let mut out = Vec::new();
+        for primitive in mesh.primitives() {
+            let key = (mesh.index(), primitive.index());
+            let material = self.material(&primitive);
+            let id = match self.meshes.get(&key) {
+                Some(id) => *id,
+                None => {
+                    let id = self.convert(mesh, &primitive, material)?;
+                    self.meshes.insert(key, id);
+                    id
+                }
+            };
+            if let Some(mesh) = id {
+                out.push(MeshInstance { mesh, material });
+            }
+        }
+        Ok(out)
+    }
+
+    fn material(&mut self, primitive: &gltf::Primitive) -> MaterialId {
+        match primitive.material().index() {
+            Some(i) => MaterialId(i as u32),
+            None => *self
+                .default_material
+                .get_or_insert_with(|| self.builder.add_material(Material::default())),
+        }
+    }
+
+    fn convert(
+        &mut self,
+        mesh: &gltf::Mesh,
+        primitive: &gltf::Primitive,
+        material: MaterialId,
+    ) -> Result<Option<MeshId>, SceneError> {
+        let element = format!("{} primitive {}", element("mesh", mesh.index(), mesh.name()), primitive.index());
+        let tangent_uv_set = self
+            .materials
+            .get(material.0 as usize)
+            .and_then(|m| m.normal_texture)
+            .map(|t| t.uv_set as usize);
+        match convert_primitive(&self.reader, primitive, tangent_uv_set) {
+            Ok(Converted::Triangles(data)) => {
+                let name = mesh.name().map_or_else(|| element.clone(), str::to_owned);
+                self.builder.add_mesh(&element, &name, data)
+            }
+            Ok(Converted::Skipped(why)) => {
+                self.builder.repair(element, format!("skipped: {why}"));
+                Ok(None)
+            }
+            Err(why) => Err(self.error(element, Fault::Accessor(why))),
+        }
+    }
+}
+
+fn count_subtree(node: &gltf::Node) -> usize {
+    let mut count = 0;
+    let mut stack = vec![node.clone()];
+    while let Some(n) = stack.pop() {
+        count += 1;
+        stack.extend(n.children());
+    }
+    count
+}

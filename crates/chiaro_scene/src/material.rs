@@ -1,0 +1,249 @@
+//! glTF metallic-roughness materials, with the extensions chiaro reads and the notes' energy
+//! absorption factor, in the shared [`Materials`] store.
+
+use bevy_ecs::prelude::*;
+use glam::{Affine2, Vec3, Vec4};
+
+use crate::texture::TextureId;
+
+/// Index of a material in [`Materials`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct MaterialId(pub u32);
+
+/// How a texture is addressed outside [0, 1].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub enum WrapMode {
+    /// Tiles (glTF's default).
+    #[default]
+    Repeat,
+    /// Tiles, mirrored every other time.
+    MirroredRepeat,
+    /// Clamps to the edge texel.
+    ClampToEdge,
+}
+
+/// How a texture is filtered.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub enum Filter {
+    /// Bilinear (and trilinear with mip maps); the default.
+    #[default]
+    Linear,
+    /// Nearest texel.
+    Nearest,
+}
+
+/// How a texture is sampled: the glTF sampler.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub struct Sampler {
+    /// Wrapping along U.
+    pub wrap_u: WrapMode,
+    /// Wrapping along V.
+    pub wrap_v: WrapMode,
+    /// Magnification filter.
+    pub mag_filter: Filter,
+    /// Minification filter.
+    pub min_filter: Filter,
+}
+
+/// A material's use of a texture: which one, through which UV set, transform and sampler.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TextureRef {
+    /// The texture in [`crate::Textures`].
+    pub texture: TextureId,
+    /// UV set (0 or 1).
+    pub uv_set: u32,
+    /// KHR_texture_transform as a matrix applied to the UV (identity when absent).
+    pub transform: Affine2,
+    /// The sampler.
+    pub sampler: Sampler,
+}
+
+/// How alpha is interpreted.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub enum AlphaMode {
+    /// Alpha ignored.
+    #[default]
+    Opaque,
+    /// Fragments with alpha below the cutoff are not there at all.
+    Mask {
+        /// The alpha cutoff (glTF default 0.5).
+        cutoff: f32,
+    },
+    /// Blended in glTF; chiaro renders it as opaque (a warning says so at import).
+    Blend,
+}
+
+/// A glTF metallic-roughness material. Factors multiply their textures.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    /// Name from the file, or given by the builder.
+    pub name: String,
+    /// Linear RGBA base colour factor.
+    pub base_color: Vec4,
+    /// sRGB base colour texture.
+    pub base_color_texture: Option<TextureRef>,
+    /// Metallic factor in [0, 1].
+    pub metallic: f32,
+    /// Perceptual roughness factor in [0, 1]; GGX alpha = roughness^2.
+    pub roughness: f32,
+    /// Linear texture: roughness in G, metallic in B.
+    pub metallic_roughness_texture: Option<TextureRef>,
+    /// Linear tangent-space normal map.
+    pub normal_texture: Option<TextureRef>,
+    /// Scale of the normal map's XY.
+    pub normal_scale: f32,
+    /// Linear emissive factor (glTF limits it to [0, 1]; strength scales it).
+    pub emissive: Vec3,
+    /// sRGB emissive texture.
+    pub emissive_texture: Option<TextureRef>,
+    /// KHR_materials_emissive_strength (1 when absent).
+    pub emissive_strength: f32,
+    /// Alpha interpretation.
+    pub alpha_mode: AlphaMode,
+    /// Whether back faces are shaded too (else they are culled and shade as black).
+    pub double_sided: bool,
+    /// Index of refraction for the dielectric F0 (KHR_materials_ior; 1.5 gives F0 = 0.04).
+    pub ior: f32,
+    /// The notes' energy absorption factor in [0, 1]: the BRDF is scaled by (1 - absorption).
+    /// Read from the material's glTF `extras` as `{"absorption": x}`; 0 when absent.
+    pub absorption: f32,
+}
+
+impl Default for Material {
+    /// glTF's defaults, used for primitives without a material: white base colour, metallic 1,
+    /// roughness 1, opaque, single-sided.
+    fn default() -> Self {
+        Self {
+            name: String::from("default"),
+            base_color: Vec4::ONE,
+            base_color_texture: None,
+            metallic: 1.0,
+            roughness: 1.0,
+            metallic_roughness_texture: None,
+            normal_texture: None,
+            normal_scale: 1.0,
+            emissive: Vec3::ZERO,
+            emissive_texture: None,
+            emissive_strength: 1.0,
+            alpha_mode: AlphaMode::Opaque,
+            double_sided: false,
+            ior: 1.5,
+            absorption: 0.0,
+        }
+    }
+}
+
+impl Material {
+    /// An untextured dielectric with this linear base colour and roughness.
+    pub fn diffuse(name: &str, color: Vec3, roughness: f32) -> Self {
+        Self {
+            name: name.to_owned(),
+            base_color: color.extend(1.0),
+            metallic: 0.0,
+            roughness,
+            ..Self::default()
+        }
+    }
+
+    /// An emitter: black base colour, `radiance` as emissive factor times strength. The factor
+    /// keeps glTF's [0, 1] range; any excess goes into the strength.
+    pub fn emitter(name: &str, radiance: Vec3) -> Self {
+        let strength = radiance.max_element().max(1.0);
+        Self {
+            name: name.to_owned(),
+            base_color: Vec4::new(0.0, 0.0, 0.0, 1.0),
+            metallic: 0.0,
+            emissive: radiance / strength,
+            emissive_strength: strength,
+            ..Self::default()
+        }
+    }
+
+    /// Emitted radiance without texture: emissive factor times strength.
+    pub fn emitted_radiance(&self) -> Vec3 {
+        self.emissive * self.emissive_strength
+    }
+
+    /// True when the material can emit light.
+    pub fn is_emissive(&self) -> bool {
+        self.emitted_radiance().max_element() > 0.0
+    }
+
+    /// Dielectric normal-incidence Fresnel reflectance from the IOR: ((ior - 1) / (ior + 1))^2.
+    pub fn dielectric_f0(&self) -> f32 {
+        ((self.ior - 1.0) / (self.ior + 1.0)).powi(2)
+    }
+
+    /// The texture slots in use, by name.
+    pub fn texture_slots(&self) -> impl Iterator<Item = (&'static str, &TextureRef)> {
+        [
+            ("base colour", &self.base_color_texture),
+            ("metallic-roughness", &self.metallic_roughness_texture),
+            ("normal", &self.normal_texture),
+            ("emissive", &self.emissive_texture),
+        ]
+        .into_iter()
+        .filter_map(|(name, slot)| slot.as_ref().map(|t| (name, t)))
+    }
+}
+
+/// Every material of the scene.
+#[derive(Resource, Default, Debug)]
+pub struct Materials {
+    materials: Vec<Material>,
+}
+
+impl Materials {
+    /// Adds a material and returns its id.
+    pub fn add(&mut self, material: Material) -> MaterialId {
+        self.materials.push(material);
+        MaterialId(self.materials.len() as u32 - 1)
+    }
+
+    /// The material with this id, if any.
+    pub fn get(&self, id: MaterialId) -> Option<&Material> {
+        self.materials.get(id.0 as usize)
+    }
+
+    /// The material with this id for editing, if any.
+    pub fn get_mut(&mut self, id: MaterialId) -> Option<&mut Material> {
+        self.materials.get_mut(id.0 as usize)
+    }
+
+    /// All materials with their ids.
+    pub fn iter(&self) -> impl Iterator<Item = (MaterialId, &Material)> {
+        self.materials
+            .iter()
+            .enumerate()
+            .map(|(i, m)| (MaterialId(i as u32), m))
+    }
+
+    /// Number of materials.
+    pub fn len(&self) -> usize {
+        self.materials.len()
+    }
+
+    /// True when there are none.
+    pub fn is_empty(&self) -> bool {
+        self.materials.is_empty()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_ior_gives_the_usual_f0() {
+        assert!((Material::default().dielectric_f0() - 0.04).abs() < 1e-6);
+    }
+
+    #[test]
+    fn emitter_keeps_the_factor_in_range() {
+        let m = Material::emitter("light", Vec3::new(17.0, 12.0, 4.0));
+        assert!(m.emissive.max_element() <= 1.0);
+        assert!(m.emitted_radiance().abs_diff_eq(Vec3::new(17.0, 12.0, 4.0), 1e-4));
+        assert!(m.is_emissive());
+        assert!(!Material::default().is_emissive());
+    }
+}

@@ -1,0 +1,109 @@
+//! Triangle meshes, validated on construction, and the shared [`Meshes`] store.
+
+use bevy_ecs::prelude::*;
+use glam::{Vec2, Vec3, Vec4};
+
+use crate::bounds::Aabb;
+use crate::mesh_repair::{MeshData, MeshFault, repair_mesh};
+
+/// Index of a mesh in [`Meshes`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct MeshId(pub u32);
+
+/// An indexed triangle mesh whose data is known good: every index is in range, every position,
+/// normal, tangent and UV is finite, normals are unit length, no triangle has zero area.
+/// Built only through [`Mesh::new`], which repairs or refuses raw data.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mesh {
+    pub(crate) name: String,
+    pub(crate) positions: Vec<Vec3>,
+    pub(crate) normals: Vec<Vec3>,
+    pub(crate) tangents: Option<Vec<Vec4>>,
+    pub(crate) uvs: [Option<Vec<Vec2>>; 2],
+    pub(crate) indices: Vec<u32>,
+}
+
+impl Mesh {
+    /// Validates and repairs `data`. Returns the mesh and one line per repair made (what was
+    /// dropped or fixed, and how many), or the fault that makes the data unusable.
+    pub fn new(name: impl Into<String>, data: MeshData) -> Result<(Self, Vec<String>), MeshFault> {
+        repair_mesh(name.into(), data)
+    }
+
+    /// The mesh's name (from the file, or given by the builder).
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Vertex positions, object space.
+    pub fn positions(&self) -> &[Vec3] {
+        &self.positions
+    }
+
+    /// Unit vertex normals, one per position.
+    pub fn normals(&self) -> &[Vec3] {
+        &self.normals
+    }
+
+    /// Tangents (xyz unit, w = +-1 the bitangent sign), present when a normal map needs them.
+    pub fn tangents(&self) -> Option<&[Vec4]> {
+        self.tangents.as_deref()
+    }
+
+    /// UV set 0 or 1, when present.
+    pub fn uv(&self, set: usize) -> Option<&[Vec2]> {
+        self.uvs.get(set).and_then(|uv| uv.as_deref())
+    }
+
+    /// Triangle list indices, three per triangle.
+    pub fn indices(&self) -> &[u32] {
+        &self.indices
+    }
+
+    /// Number of triangles.
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len() / 3
+    }
+
+    /// Object-space bounds.
+    pub fn bounds(&self) -> Aabb {
+        Aabb::from_points(self.positions.iter().copied())
+    }
+}
+
+/// Every mesh of the scene, stored once however many instances use it.
+#[derive(Resource, Default, Debug)]
+pub struct Meshes {
+    meshes: Vec<Mesh>,
+}
+
+impl Meshes {
+    /// Adds a mesh and returns its id.
+    pub fn add(&mut self, mesh: Mesh) -> MeshId {
+        self.meshes.push(mesh);
+        MeshId(self.meshes.len() as u32 - 1)
+    }
+
+    /// The mesh with this id, if any.
+    pub fn get(&self, id: MeshId) -> Option<&Mesh> {
+        self.meshes.get(id.0 as usize)
+    }
+
+    /// All meshes with their ids.
+    pub fn iter(&self) -> impl Iterator<Item = (MeshId, &Mesh)> {
+        self.meshes
+            .iter()
+            .enumerate()
+            .map(|(i, m)| (MeshId(i as u32), m))
+    }
+
+    /// Number of meshes.
+    pub fn len(&self) -> usize {
+        self.meshes.len()
+    }
+
+    /// True when there are none.
+    pub fn is_empty(&self) -> bool {
+        self.meshes.is_empty()
+    }
+}

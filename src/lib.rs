@@ -1,0 +1,16 @@
+//! chiaro: a real-time hybrid path tracer for `bevy_ecs` applications.
+//!
+//! This crate re-exports the workspace's crates under one name:
+//! [`scene`] (the scene as ECS data, glTF import, built-in scenes) and [`shading`] (the shading
+//! model).
+//!
+//! ```
+//! use bevy_ecs::world::World;
+//!
+//! let mut world = World::new();
+//! let spawned = chiaro::scene::load_scene(&mut world, "builtin:furnace").unwrap();
+//! assert!(spawned.repairs.is_empty());
+//! ```
+
+pub use chiaro_scene as scene;
+pub use chiaro_shading as shading;
