@@ -44,7 +44,7 @@ fn main() -> Result<()> {
 fn info(scene: &str, env: Option<PathBuf>, env_strength: f32) -> Result<()> {
     let mut world = World::new();
     let start = Instant::now();
-    load_scene(&mut world, scene).context("cannot load the scene")?;
+    load_scene(&mut world, scene)?;
     if let Some(path) = env {
         let (environment, repairs) =
             Environment::from_file(&path, env_strength).context("cannot load the environment")?;

@@ -2,11 +2,14 @@
 //!
 //! Read: the default scene (or the first), its node hierarchy, triangle primitives (strips and
 //! fans converted, points and lines skipped), materials with KHR_materials_emissive_strength,
-//! KHR_materials_ior and KHR_texture_transform, KHR_lights_punctual, cameras. Every byte range is
+//! KHR_materials_ior and KHR_texture_transform, KHR_lights_punctual, EXT_mesh_gpu_instancing,
+//! cameras. Every byte range is
 //! checked before it is read; faults are errors naming the file and the element, or repairs
 //! reported with what was dropped and how many (see [`crate::mesh_repair`]).
 
 mod accessor;
+mod container;
+mod gpu_instancing;
 mod materials;
 mod nodes;
 mod primitives;
@@ -23,7 +26,8 @@ use crate::error::{Fault, SceneError};
 use crate::scene_builder::SceneBuilder;
 
 /// Extensions chiaro reads; a file that requires any other is refused.
-pub const SUPPORTED_EXTENSIONS: [&str; 4] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 5] = [
+    "EXT_mesh_gpu_instancing",
     "KHR_lights_punctual",
     "KHR_materials_emissive_strength",
     "KHR_materials_ior",
@@ -35,9 +39,8 @@ pub fn load_gltf(path: &Path) -> Result<SceneBuilder, SceneError> {
     let source = path.display().to_string();
     let whole = |fault: Fault| SceneError::whole(source.clone(), fault);
     let bytes = sources::read_file(path).map_err(whole)?;
-    let gltf = gltf::Gltf::from_slice(&bytes).map_err(|e| whole(Fault::Gltf(e.to_string())))?;
+    let (document, blob) = container::parse(&bytes).map_err(|e| whole(Fault::Gltf(e)))?;
     drop(bytes);
-    let document = gltf.document;
     if let Some(ext) = document
         .extensions_required()
         .find(|e| !SUPPORTED_EXTENSIONS.contains(e))
@@ -47,8 +50,10 @@ pub fn load_gltf(path: &Path) -> Result<SceneBuilder, SceneError> {
         ))));
     }
     let base = path.parent().unwrap_or(Path::new("."));
-    let buffers = sources::load_buffers(&document, gltf.blob, base)
-        .map_err(|(element, fault)| SceneError::at(source.clone(), element, fault))?;
+    let at = |(element, fault): (String, Fault)| SceneError::at(source.clone(), element, fault);
+    let buffers = sources::load_buffers(&document, blob, base).map_err(at)?;
+    check_buffer_views(&document, &buffers).map_err(at)?;
+    check_cameras(&document).map_err(at)?;
 
     let mut builder = SceneBuilder::new(source);
     let mut importer = materials::MaterialImporter::new(&document, &buffers, base);
@@ -66,4 +71,44 @@ pub fn load_gltf(path: &Path) -> Result<SceneBuilder, SceneError> {
         builder.repair("scene", "has no triangles to render");
     }
     Ok(builder)
+}
+
+/// Every buffer view lies inside its buffer, with a legal stride (a multiple of 4 in 4..=252,
+/// none on index data), whether or not the scene uses it.
+fn check_buffer_views(document: &gltf::Document, buffers: &[Vec<u8>]) -> Result<(), (String, Fault)> {
+    for view in document.views() {
+        let element = nodes::element("buffer view", view.index(), view.name());
+        let fault = |why: String| Err((element.clone(), Fault::Accessor(why)));
+        let buffer_len = buffers.get(view.buffer().index()).map_or(0, Vec::len);
+        if view.offset().checked_add(view.length()).is_none_or(|end| end > buffer_len) {
+            return fault(format!(
+                "offset {} + length {} does not fit buffer {} of {buffer_len} bytes",
+                view.offset(),
+                view.length(),
+                view.buffer().index()
+            ));
+        }
+        if let Some(stride) = view.stride() {
+            if stride % 4 != 0 || !(4..=252).contains(&stride) {
+                return fault(format!("byte stride {stride} is not a multiple of 4 in 4..=252"));
+            }
+            if view.target() == Some(gltf::buffer::Target::ElementArrayBuffer) {
+                return fault("index data must not have a byte stride".into());
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Every camera defines a usable projection, whether or not a node uses it.
+fn check_cameras(document: &gltf::Document) -> Result<(), (String, Fault)> {
+    for camera in document.cameras() {
+        let element = nodes::element("camera", camera.index(), camera.name());
+        let raw = &document.as_json().cameras[camera.index()];
+        if raw.perspective.is_some() && raw.orthographic.is_some() {
+            return Err((element, Fault::Camera("has both perspective and orthographic parameters".into())));
+        }
+        nodes::camera(&camera).map_err(|fault| (element, fault))?;
+    }
+    Ok(())
 }

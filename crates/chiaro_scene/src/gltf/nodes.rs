@@ -9,6 +9,7 @@ use glam::{Mat4, Quat, Vec3};
 use crate::components::{Camera, Light, LightKind, MeshInstance, Projection};
 use crate::error::{Fault, SceneError};
 use crate::gltf::accessor::AccessorReader;
+use crate::gltf::gpu_instancing::instance_transforms;
 use crate::gltf::primitives::{Converted, convert_primitive};
 use crate::material::{Material, MaterialId};
 use crate::mesh::MeshId;
@@ -149,7 +150,7 @@ fn light(l: &gltf::khr_lights_punctual::Light, repairs: &mut Vec<String>) -> Res
     Ok(Light { kind, color, intensity, range })
 }
 
-fn camera(c: &gltf::Camera) -> Result<Camera, Fault> {
+pub(crate) fn camera(c: &gltf::Camera) -> Result<Camera, Fault> {
     let bad = |why: String| Err(Fault::Camera(why));
     let projection = match c.projection() {
         gltf::camera::Projection::Perspective(p) => {
@@ -276,26 +277,51 @@ impl<'a> NodeImporter<'a> {
             Some(mesh) => self.instances(&mesh)?,
             None => Vec::new(),
         };
+        let gpu_instances = instance_transforms(&self.reader, self.document, node)
+            .map_err(|why| self.error(name.clone(), Fault::Accessor(why)))?
+            .filter(|_| !instances.is_empty());
         let added = self.builder.add_node(Node {
             name: Some(node.name().map_or_else(|| name.clone(), str::to_owned)),
             parent,
             transform,
-            instance: (instances.len() == 1).then(|| instances[0]),
+            instance: (instances.len() == 1 && gpu_instances.is_none()).then(|| instances[0]),
             light,
             camera,
             source_node: Some(node.index() as u32),
         });
+        if let Some((transforms, dropped)) = gpu_instances {
+            if dropped > 0 {
+                self.builder.repair(name.clone(), format!("dropped {dropped} GPU instances with a non-finite or zero-scale transform"));
+            }
+            for (k, transform) in transforms.into_iter().enumerate() {
+                let holder = self.builder.add_node(Node {
+                    name: Some(format!("{name} instance {k}")),
+                    parent: Some(added),
+                    transform,
+                    instance: (instances.len() == 1).then(|| instances[0]),
+                    ..Node::default()
+                });
+                self.add_primitive_children(&name, holder, &instances);
+            }
+        } else {
+            self.add_primitive_children(&name, added, &instances);
+        }
+        Ok(Some(added))
+    }
+
+    /// With more than one primitive, each becomes a child of `holder` (one is carried by the
+    /// holder itself).
+    fn add_primitive_children(&mut self, name: &str, holder: NodeIndex, instances: &[MeshInstance]) {
         if instances.len() > 1 {
-            for (k, instance) in instances.into_iter().enumerate() {
+            for (k, instance) in instances.iter().enumerate() {
                 self.builder.add_node(Node {
                     name: Some(format!("{name} primitive {k}")),
-                    parent: Some(added),
-                    instance: Some(instance),
+                    parent: Some(holder),
+                    instance: Some(*instance),
                     ..Node::default()
                 });
             }
         }
-        Ok(Some(added))
     }
 
     /// One instance per drawable primitive of the mesh, converting each primitive once.

@@ -1,0 +1,134 @@
+//! Parsing a glTF or GLB file into a validated document. The GLB container is checked here
+//! (header, chunk bounds and alignment, chunk order) and mesh attribute references are checked
+//! before the gltf crate validates the JSON, because the crate panics on a GLB header shorter
+//! than itself and on a primitive attribute naming a missing accessor.
+
+const GLB_MAGIC: &[u8; 4] = b"glTF";
+const CHUNK_JSON: u32 = 0x4E4F_534A;
+const CHUNK_BIN: u32 = 0x004E_4942;
+
+fn word(bytes: &[u8], at: usize) -> u32 {
+    u32::from_le_bytes([bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]])
+}
+
+/// Checks a GLB container's structure: version 2, a total length matching the data, chunks
+/// inside it with 4-byte aligned lengths, a JSON chunk first, at most one BIN chunk right after.
+fn check_glb(bytes: &[u8]) -> Result<(), String> {
+    if bytes.len() < 12 {
+        return Err(format!("GLB header needs 12 bytes, the file has {}", bytes.len()));
+    }
+    let version = word(bytes, 4);
+    if version != 2 {
+        return Err(format!("GLB version {version} is not 2"));
+    }
+    let length = word(bytes, 8) as usize;
+    if length != bytes.len() {
+        return Err(format!("GLB header says {length} bytes, the file has {}", bytes.len()));
+    }
+    let mut at = 12;
+    let mut index = 0;
+    while at < length {
+        if length - at < 8 {
+            return Err(format!("GLB chunk {index} header is cut short at byte {at}"));
+        }
+        let (chunk_length, chunk_type) = (word(bytes, at) as usize, word(bytes, at + 4));
+        if chunk_length % 4 != 0 {
+            return Err(format!("GLB chunk {index} length {chunk_length} is not a multiple of 4"));
+        }
+        if chunk_length > length - at - 8 {
+            return Err(format!("GLB chunk {index} ({chunk_length} bytes) runs past the end of the file"));
+        }
+        match (index, chunk_type) {
+            (0, CHUNK_JSON) | (1, CHUNK_BIN) => {}
+            (0, _) => return Err("GLB's first chunk is not JSON".into()),
+            (_, CHUNK_JSON | CHUNK_BIN) => {
+                return Err(format!("GLB chunk {index} repeats a JSON or BIN chunk"));
+            }
+            _ => {} // unknown chunk types are skipped, as the spec allows
+        }
+        at += 8 + chunk_length;
+        index += 1;
+    }
+    if index == 0 {
+        return Err("GLB has no JSON chunk".into());
+    }
+    Ok(())
+}
+
+/// Every accessor a mesh primitive names exists (the gltf crate's validation indexes them
+/// unchecked).
+fn check_attribute_references(root: &gltf::json::Root) -> Result<(), String> {
+    let count = root.accessors.len();
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            let targets = primitive.targets.iter().flatten().flat_map(|t| {
+                [t.positions, t.normals, t.tangents].into_iter().flatten()
+            });
+            let attributes = primitive.attributes.values().copied();
+            for index in attributes.chain(primitive.indices).chain(targets) {
+                if index.value() >= count {
+                    return Err(format!(
+                        "mesh {m} primitive {p} refers to accessor {} but there are {count}",
+                        index.value()
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Parses and validates a .gltf or .glb file's bytes: the document and the GLB binary chunk.
+pub(crate) fn parse(bytes: &[u8]) -> Result<(gltf::Document, Option<Vec<u8>>), String> {
+    if bytes.starts_with(GLB_MAGIC) {
+        check_glb(bytes)?;
+    }
+    let unchecked = gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| e.to_string())?;
+    let root = unchecked.document.into_json();
+    check_attribute_references(&root)?;
+    let document = gltf::Document::from_json(root).map_err(|e| e.to_string())?;
+    Ok((document, unchecked.blob))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn glb(chunks: &[(u32, &[u8])], length_delta: i64) -> Vec<u8> {
+        let mut body = Vec::new();
+        for (ty, data) in chunks {
+            body.extend((data.len() as u32).to_le_bytes());
+            body.extend(ty.to_le_bytes());
+            body.extend(*data);
+        }
+        let total = (12 + body.len()) as i64 + length_delta;
+        let mut out = b"glTF".to_vec();
+        out.extend(2u32.to_le_bytes());
+        out.extend((total as u32).to_le_bytes());
+        out.extend(body);
+        out
+    }
+
+    #[test]
+    fn well_formed_glb_passes() {
+        let json = br#"{"asset":{"version":"2.0"}}"#;
+        let mut padded = json.to_vec();
+        padded.resize(json.len().div_ceil(4) * 4, b' ');
+        check_glb(&glb(&[(CHUNK_JSON, &padded), (CHUNK_BIN, &[0; 8])], 0)).unwrap();
+        assert!(parse(&glb(&[(CHUNK_JSON, &padded)], 0)).is_ok());
+    }
+
+    #[test]
+    fn broken_containers_are_refused() {
+        let json = [b' '; 8];
+        assert!(check_glb(b"glTF\x02\0\0\0").unwrap_err().contains("12 bytes"));
+        assert!(check_glb(&glb(&[(CHUNK_JSON, &json)], -4)).unwrap_err().contains("header says"));
+        assert!(check_glb(&glb(&[(CHUNK_JSON, &json[..6])], 0)).unwrap_err().contains("multiple of 4"));
+        assert!(check_glb(&glb(&[(CHUNK_BIN, &json)], 0)).unwrap_err().contains("first chunk"));
+        let twice = glb(&[(CHUNK_JSON, &json), (CHUNK_BIN, &json), (CHUNK_BIN, &json)], 0);
+        assert!(check_glb(&twice).unwrap_err().contains("repeats"));
+        let mut short_header = glb(&[(CHUNK_JSON, &json)], 0);
+        short_header[8..12].copy_from_slice(&4u32.to_le_bytes());
+        assert!(parse(&short_header).is_err());
+    }
+}

@@ -1,0 +1,27 @@
+//! Helpers shared by the integration tests.
+
+#![allow(dead_code)]
+
+use std::path::PathBuf;
+
+/// The shared folder beside the checkout; fails with a clear message when it is absent.
+pub fn shared_dir(sub: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..").join("shared").join(sub);
+    assert!(
+        dir.is_dir(),
+        "{} is missing: this test needs the shared test data folder (../shared/{sub}) beside the checkout",
+        dir.display()
+    );
+    dir
+}
+
+/// The JSON of a .gltf or .glb file, parsed independently of chiaro.
+pub fn gltf_json(bytes: &[u8]) -> serde_json::Value {
+    if bytes.starts_with(b"glTF") {
+        let len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+        assert_eq!(&bytes[16..20], b"JSON");
+        serde_json::from_slice(&bytes[20..20 + len]).unwrap()
+    } else {
+        serde_json::from_slice(bytes).unwrap()
+    }
+}
