@@ -10,7 +10,11 @@ use clap::{Parser, Subcommand};
 use chiaro::scene::{Environment, SceneInfo, load_scene};
 
 #[derive(Parser)]
-#[command(name = "chiaro", version, about = "A real-time hybrid path tracer for bevy_ecs applications")]
+#[command(
+    name = "chiaro",
+    version,
+    about = "A real-time hybrid path tracer for bevy_ecs applications"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -37,7 +41,11 @@ enum Command {
 fn main() -> Result<()> {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
     match Cli::parse().command {
-        Command::Info { scene, env, env_strength } => info(&scene, env, env_strength),
+        Command::Info {
+            scene,
+            env,
+            env_strength,
+        } => info(&scene, env, env_strength),
     }
 }
 

@@ -17,7 +17,11 @@ fn scratch(test: &str) -> PathBuf {
 }
 
 fn bytes_of(floats: &[f32], ints: &[u32]) -> Vec<u8> {
-    floats.iter().flat_map(|f| f.to_le_bytes()).chain(ints.iter().flat_map(|i| i.to_le_bytes())).collect()
+    floats
+        .iter()
+        .flat_map(|f| f.to_le_bytes())
+        .chain(ints.iter().flat_map(|i| i.to_le_bytes()))
+        .collect()
 }
 
 /// A glTF with one mesh of `positions` and `indices` in an embedded buffer, drawn by node 0.
@@ -48,7 +52,12 @@ fn mesh_gltf(positions: &[[f32; 3]], indices: &[u32]) -> Value {
     })
 }
 
-const QUAD: [[f32; 3]; 4] = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
+const QUAD: [[f32; 3]; 4] = [
+    [0.0, 0.0, 0.0],
+    [1.0, 0.0, 0.0],
+    [1.0, 1.0, 0.0],
+    [0.0, 1.0, 0.0],
+];
 
 fn write(test: &str, name: &str, json: &Value) -> String {
     let path = scratch(test).join(name);
@@ -68,12 +77,19 @@ fn nan_vertex_drops_the_triangles_that_use_it() {
     positions.push([f32::NAN, 0.5, 0.0]);
     // serde_json writes NaN as null, so the NaN must go into the binary buffer: it does, via
     // bytes_of. The accessor min/max stay finite.
-    let path = write("nan", "nan.gltf", &mesh_gltf(&positions, &[0, 1, 2, 0, 2, 3, 1, 4, 2]));
+    let path = write(
+        "nan",
+        "nan.gltf",
+        &mesh_gltf(&positions, &[0, 1, 2, 0, 2, 3, 1, 4, 2]),
+    );
     let (mut world, result) = load(&path);
     let spawned = result.expect("a NaN vertex is repaired, not fatal");
     assert_eq!(spawned.repairs.len(), 1, "{:?}", spawned.repairs);
     assert_eq!(spawned.repairs[0].element, "mesh 0 (\"quad\") primitive 0");
-    assert_eq!(spawned.repairs[0].action, "dropped 1 triangles with a non-finite position");
+    assert_eq!(
+        spawned.repairs[0].action,
+        "dropped 1 triangles with a non-finite position"
+    );
     assert_eq!(SceneInfo::gather(&mut world).triangles, 2);
 }
 
@@ -82,12 +98,24 @@ fn index_past_the_end_is_refused_by_name() {
     let path = write("oob", "oob.gltf", &mesh_gltf(&QUAD, &[0, 1, 2, 0, 2, 7]));
     let (world, result) = load(&path);
     let err = result.unwrap_err();
-    assert!(matches!(err.fault, Fault::Mesh(MeshFault::IndexOutOfRange { index: 7, position: 5, vertex_count: 4 })));
+    assert!(matches!(
+        err.fault,
+        Fault::Mesh(MeshFault::IndexOutOfRange {
+            index: 7,
+            position: 5,
+            vertex_count: 4
+        })
+    ));
     assert_eq!(
         err.to_string(),
-        format!("{path}: mesh 0 (\"quad\") primitive 0: index 7 (at position 5) is past the end of 4 vertices")
+        format!(
+            "{path}: mesh 0 (\"quad\") primitive 0: index 7 (at position 5) is past the end of 4 vertices"
+        )
     );
-    assert!(world.get_resource::<Materials>().is_none(), "a failed load leaves the world untouched");
+    assert!(
+        world.get_resource::<Materials>().is_none(),
+        "a failed load leaves the world untouched"
+    );
 }
 
 #[test]
@@ -99,10 +127,27 @@ fn ten_gigabyte_buffer_in_a_one_kilobyte_file_is_refused_at_once() {
     let path = write("huge", "huge.gltf", &gltf);
     let start = Instant::now();
     let (_, result) = load(&path);
-    assert!(start.elapsed() < Duration::from_secs(2), "took {:?}", start.elapsed());
+    assert!(
+        start.elapsed() < Duration::from_secs(2),
+        "took {:?}",
+        start.elapsed()
+    );
     let err = result.unwrap_err();
-    assert!(matches!(err.fault, Fault::BufferTooShort { declared: 10_000_000_000, actual: 1024 }), "{err}");
-    assert!(err.to_string().starts_with(&format!("{path}: buffer 0: declares 10000000000 bytes")), "{err}");
+    assert!(
+        matches!(
+            err.fault,
+            Fault::BufferTooShort {
+                declared: 10_000_000_000,
+                actual: 1024
+            }
+        ),
+        "{err}"
+    );
+    assert!(
+        err.to_string()
+            .starts_with(&format!("{path}: buffer 0: declares 10000000000 bytes")),
+        "{err}"
+    );
 }
 
 #[test]
@@ -115,7 +160,10 @@ fn cyclic_node_graph_is_refused_by_name() {
     assert!(matches!(err.fault, Fault::Hierarchy(_)), "{err}");
     let message = err.to_string();
     assert!(message.starts_with(&path), "{message}");
-    assert!(message.ends_with("is its own ancestor: the node graph has a cycle"), "{message}");
+    assert!(
+        message.ends_with("is its own ancestor: the node graph has a cycle"),
+        "{message}"
+    );
 }
 
 #[test]
@@ -132,8 +180,16 @@ fn missing_texture_loads_warns_and_falls_back_to_the_factor() {
     assert_eq!(spawned.repairs.len(), 1, "{:?}", spawned.repairs);
     let repair = &spawned.repairs[0];
     assert_eq!(repair.element, "material 0 (\"painted\")");
-    assert!(repair.action.contains("no-such-texture.png") && repair.action.contains("the factor alone is used"), "{repair}");
-    let material = world.resource::<Materials>().get(chiaro::scene::MaterialId(0)).unwrap().clone();
+    assert!(
+        repair.action.contains("no-such-texture.png")
+            && repair.action.contains("the factor alone is used"),
+        "{repair}"
+    );
+    let material = world
+        .resource::<Materials>()
+        .get(chiaro::scene::MaterialId(0))
+        .unwrap()
+        .clone();
     assert!(material.base_color_texture.is_none());
     assert_eq!(material.base_color, glam::Vec4::new(0.2, 0.4, 0.6, 1.0));
 }
@@ -152,7 +208,13 @@ fn zero_scale_node_is_skipped_with_its_subtree() {
     let spawned = result.expect("a zero-scale node is skipped, not fatal");
     assert_eq!(spawned.repairs.len(), 1);
     assert_eq!(spawned.repairs[0].element, "node 0 (\"hidden\")");
-    assert!(spawned.repairs[0].action.contains("subtree (2 nodes) are skipped"), "{}", spawned.repairs[0]);
+    assert!(
+        spawned.repairs[0]
+            .action
+            .contains("subtree (2 nodes) are skipped"),
+        "{}",
+        spawned.repairs[0]
+    );
     assert_eq!(SceneInfo::gather(&mut world).instances, 1);
 }
 
@@ -166,5 +228,9 @@ fn malformed_json_and_missing_files_are_named() {
 
     let err = load("/no/such/scene.glb").1.unwrap_err();
     assert!(matches!(err.fault, Fault::Io(_)));
-    assert!(err.to_string().starts_with("/no/such/scene.glb: cannot read it"), "{err}");
+    assert!(
+        err.to_string()
+            .starts_with("/no/such/scene.glb: cannot read it"),
+        "{err}"
+    );
 }

@@ -17,8 +17,18 @@ const PER_FILE: Duration = Duration::from_secs(10);
 
 /// Report pointers whose errors touch what chiaro reads.
 const READ_BY_CHIARO: [&str; 12] = [
-    "/buffers", "/bufferViews", "/accessors", "/meshes", "/nodes", "/materials", "/textures",
-    "/images", "/samplers", "/cameras", "/scene", "/extensionsRequired",
+    "/buffers",
+    "/bufferViews",
+    "/accessors",
+    "/meshes",
+    "/nodes",
+    "/materials",
+    "/textures",
+    "/images",
+    "/samplers",
+    "/cameras",
+    "/scene",
+    "/extensionsRequired",
 ];
 
 /// Files the validator reports errors in (touching what chiaro reads) that chiaro loads, and why
@@ -174,7 +184,10 @@ fn corpus_files(dir: &Path) -> Vec<PathBuf> {
             let path = entry.unwrap().path();
             if path.is_dir() {
                 stack.push(path);
-            } else if matches!(path.extension().and_then(|e| e.to_str()), Some("gltf" | "glb")) {
+            } else if matches!(
+                path.extension().and_then(|e| e.to_str()),
+                Some("gltf" | "glb")
+            ) {
                 files.push(path);
             }
         }
@@ -212,7 +225,9 @@ fn load_with_timeout(path: &Path) -> (Outcome, Duration) {
     std::thread::spawn(move || {
         let result = std::panic::catch_unwind(|| {
             let mut world = World::new();
-            load_scene(&mut world, &spec).map(|_| ()).map_err(|e| e.to_string())
+            load_scene(&mut world, &spec)
+                .map(|_| ())
+                .map_err(|e| e.to_string())
         });
         let _ = tx.send(result);
     });
@@ -252,10 +267,14 @@ fn every_corpus_file_loads_or_is_refused_by_name() {
                 loaded += 1;
                 let listed = SAFE_AFTER_REPAIR.iter().any(|(f, _)| *f == name);
                 if !errors.is_empty() && !listed {
-                    failures.push(format!("{name}: loaded despite validator errors {errors:?}"));
+                    failures.push(format!(
+                        "{name}: loaded despite validator errors {errors:?}"
+                    ));
                 }
                 if errors.is_empty() && listed {
-                    failures.push(format!("{name}: listed as repaired but the validator reports no error"));
+                    failures.push(format!(
+                        "{name}: listed as repaired but the validator reports no error"
+                    ));
                 }
             }
         }
@@ -264,5 +283,10 @@ fn every_corpus_file_loads_or_is_refused_by_name() {
         }
     }
     println!("{loaded} loaded, {refused} refused");
-    assert!(failures.is_empty(), "{} problems:\n{}", failures.len(), failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "{} problems:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
 }

@@ -28,7 +28,10 @@ fn array(v: &Value) -> &[Value] {
 
 fn expected(json: &Value) -> (Expected, BTreeMap<u64, u64>) {
     let scene = json["scene"].as_u64().unwrap_or(0) as usize;
-    let mut stack: Vec<u64> = array(&json["scenes"][scene]["nodes"]).iter().filter_map(Value::as_u64).collect();
+    let mut stack: Vec<u64> = array(&json["scenes"][scene]["nodes"])
+        .iter()
+        .filter_map(Value::as_u64)
+        .collect();
     let mut node_mesh = BTreeMap::new();
     let mut e = Expected::default();
     let mut used_meshes = BTreeSet::new();
@@ -38,7 +41,9 @@ fn expected(json: &Value) -> (Expected, BTreeMap<u64, u64>) {
         if let Some(mesh) = node["mesh"].as_u64() {
             used_meshes.insert(mesh);
             node_mesh.insert(n, mesh);
-            let copies = match node["extensions"]["EXT_mesh_gpu_instancing"]["attributes"].as_object() {
+            let copies = match node["extensions"]["EXT_mesh_gpu_instancing"]["attributes"]
+                .as_object()
+            {
                 Some(attributes) => {
                     let accessor = attributes.values().next().unwrap().as_u64().unwrap() as usize;
                     json["accessors"][accessor]["count"].as_u64().unwrap() as usize
@@ -55,7 +60,11 @@ fn expected(json: &Value) -> (Expected, BTreeMap<u64, u64>) {
         for p in array(&json["meshes"][mesh as usize]["primitives"]) {
             e.primitives += 1;
             default_material |= p["material"].is_null();
-            let count_of = |accessor: &Value| json["accessors"][accessor.as_u64().unwrap() as usize]["count"].as_u64().unwrap();
+            let count_of = |accessor: &Value| {
+                json["accessors"][accessor.as_u64().unwrap() as usize]["count"]
+                    .as_u64()
+                    .unwrap()
+            };
             let corners = match &p["indices"] {
                 Value::Null => count_of(&p["attributes"]["POSITION"]),
                 indices => count_of(indices),
@@ -68,8 +77,14 @@ fn expected(json: &Value) -> (Expected, BTreeMap<u64, u64>) {
     let mut textures = BTreeSet::new();
     for m in array(&json["materials"]) {
         let slots = [
-            (&m["pbrMetallicRoughness"]["baseColorTexture"], ColorSpace::Srgb),
-            (&m["pbrMetallicRoughness"]["metallicRoughnessTexture"], ColorSpace::Linear),
+            (
+                &m["pbrMetallicRoughness"]["baseColorTexture"],
+                ColorSpace::Srgb,
+            ),
+            (
+                &m["pbrMetallicRoughness"]["metallicRoughnessTexture"],
+                ColorSpace::Linear,
+            ),
             (&m["normalTexture"], ColorSpace::Linear),
             (&m["emissiveTexture"], ColorSpace::Srgb),
         ];
@@ -90,7 +105,10 @@ fn every_shared_model_imports_with_the_counts_its_json_declares() {
     let mut checked = 0;
     for entry in std::fs::read_dir(&dir).unwrap() {
         let path = entry.unwrap().path();
-        if !matches!(path.extension().and_then(|e| e.to_str()), Some("glb" | "gltf")) {
+        if !matches!(
+            path.extension().and_then(|e| e.to_str()),
+            Some("glb" | "gltf")
+        ) {
             continue;
         }
         let (want, node_mesh) = expected(&common::gltf_json(&std::fs::read(&path).unwrap()));
@@ -104,7 +122,9 @@ fn every_shared_model_imports_with_the_counts_its_json_declares() {
         let mut by_gltf_mesh: BTreeMap<u64, BTreeSet<Vec<u32>>> = BTreeMap::new();
         let mut query = world.query::<(&SourceNode, Option<&MeshInstance>, Option<&Children>)>();
         for (source, instance, children) in query.iter(&world) {
-            let Some(&mesh) = node_mesh.get(&(source.0 as u64)) else { continue };
+            let Some(&mesh) = node_mesh.get(&(source.0 as u64)) else {
+                continue;
+            };
             let mut ids: Vec<u32> = instance.map(|i| i.mesh.0).into_iter().collect();
             for &child in children.into_iter().flatten() {
                 if world.get::<SourceNode>(child).is_none()
@@ -115,15 +135,30 @@ fn every_shared_model_imports_with_the_counts_its_json_declares() {
             }
             by_gltf_mesh.entry(mesh).or_default().insert(ids);
         }
-        assert!(by_gltf_mesh.values().all(|sets| sets.len() == 1), "{}: a shared mesh was stored twice", path.display());
+        assert!(
+            by_gltf_mesh.values().all(|sets| sets.len() == 1),
+            "{}: a shared mesh was stored twice",
+            path.display()
+        );
 
         // Zero-area triangles in the file are dropped, and each drop is reported with its count.
         let dropped: usize = spawned
             .repairs
             .iter()
-            .filter_map(|r| r.action.strip_prefix("dropped ")?.split_once(" triangles with zero area")?.0.parse::<usize>().ok())
+            .filter_map(|r| {
+                r.action
+                    .strip_prefix("dropped ")?
+                    .split_once(" triangles with zero area")?
+                    .0
+                    .parse::<usize>()
+                    .ok()
+            })
             .sum();
-        assert!(dropped * 1000 <= want.triangles, "{}: {dropped} triangles dropped", path.display());
+        assert!(
+            dropped * 1000 <= want.triangles,
+            "{}: {dropped} triangles dropped",
+            path.display()
+        );
         let got = Expected {
             gltf_meshes: by_gltf_mesh.len(),
             primitives: world.resource::<Meshes>().len(),
@@ -134,9 +169,22 @@ fn every_shared_model_imports_with_the_counts_its_json_declares() {
             nodes: world.query::<&SourceNode>().iter(&world).count(),
         };
         assert_eq!(got, want, "{}", path.display());
-        let other: Vec<_> = spawned.repairs.iter().filter(|r| !r.action.contains("with zero area")).collect();
-        assert!(other.is_empty(), "{}: unexpected repairs {other:?}", path.display());
+        let other: Vec<_> = spawned
+            .repairs
+            .iter()
+            .filter(|r| !r.action.contains("with zero area"))
+            .collect();
+        assert!(
+            other.is_empty(),
+            "{}: unexpected repairs {other:?}",
+            path.display()
+        );
         checked += 1;
     }
-    assert_eq!(checked, 5, "expected the five sample models in {}", dir.display());
+    assert_eq!(
+        checked,
+        5,
+        "expected the five sample models in {}",
+        dir.display()
+    );
 }

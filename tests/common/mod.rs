@@ -6,7 +6,10 @@ use std::path::PathBuf;
 
 /// The shared folder beside the checkout; fails with a clear message when it is absent.
 pub fn shared_dir(sub: &str) -> PathBuf {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..").join("shared").join(sub);
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("..")
+        .join("shared")
+        .join(sub);
     assert!(
         dir.is_dir(),
         "{} is missing: this test needs the shared test data folder (../shared/{sub}) beside the checkout",

@@ -61,7 +61,11 @@ impl Aabb {
         }
         let corners = (0..8).map(|i| {
             let pick = |bit: usize, axis: usize| {
-                if i & bit == 0 { self.min[axis] } else { self.max[axis] }
+                if i & bit == 0 {
+                    self.min[axis]
+                } else {
+                    self.max[axis]
+                }
             };
             transform.transform_point3(Vec3::new(pick(1, 0), pick(2, 1), pick(4, 2)))
         });

@@ -141,7 +141,11 @@ impl Environment {
                     sum += row.iter().copied().sum::<Vec3>() * w;
                     weight += w * img.width as f32;
                 }
-                if weight > 0.0 { sum / weight } else { Vec3::ZERO }
+                if weight > 0.0 {
+                    sum / weight
+                } else {
+                    Vec3::ZERO
+                }
             }
         };
         mean * self.strength
@@ -155,7 +159,11 @@ mod tests {
     #[test]
     fn wrong_extension_is_refused_by_name() {
         let err = Environment::from_file(Path::new("sky.png"), 1.0).unwrap_err();
-        assert!(err.to_string().starts_with("sky.png: unsupported file type"), "{err}");
+        assert!(
+            err.to_string()
+                .starts_with("sky.png: unsupported file type"),
+            "{err}"
+        );
     }
 
     #[test]

@@ -93,7 +93,11 @@ impl SceneError {
     }
 
     /// An error about one element of the source.
-    pub fn at(source_name: impl Into<String>, element: impl Into<String>, fault: impl Into<Fault>) -> Self {
+    pub fn at(
+        source_name: impl Into<String>,
+        element: impl Into<String>,
+        fault: impl Into<Fault>,
+    ) -> Self {
         Self {
             source_name: source_name.into(),
             element: Some(element.into()),

@@ -45,7 +45,9 @@ mod tests {
         let bounds = Aabb::from_points([Vec3::new(-1.0, 0.0, -2.0), Vec3::new(3.0, 2.0, 0.0)]);
         let (t, _) = frame_bounds(&bounds);
         let center = bounds.center();
-        assert!((t.translation.x - center.x).abs() < 1e-6 && (t.translation.y - center.y).abs() < 1e-6);
+        assert!(
+            (t.translation.x - center.x).abs() < 1e-6 && (t.translation.y - center.y).abs() < 1e-6
+        );
         let radius = 0.5 * bounds.size().length();
         let d = t.translation.z - center.z;
         // The sphere's tangent from the eye makes half the field of view with the axis.

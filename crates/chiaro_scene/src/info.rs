@@ -81,7 +81,10 @@ impl SceneInfo {
         // Only fails if the system's parameters are missing, which they cannot be.
         let _ = world.run_system_once(propagate_transforms);
         let meshes = world.get_resource_or_init::<Meshes>();
-        let mesh_stats: Vec<(usize, Aabb)> = meshes.iter().map(|(_, m)| (m.triangle_count(), m.bounds())).collect();
+        let mesh_stats: Vec<(usize, Aabb)> = meshes
+            .iter()
+            .map(|(_, m)| (m.triangle_count(), m.bounds()))
+            .collect();
         let materials = world.get_resource_or_init::<Materials>();
         let emissive: Vec<bool> = materials.iter().map(|(_, m)| m.is_emissive()).collect();
         let material_summaries = materials
@@ -100,10 +103,16 @@ impl SceneInfo {
         let mut bounds = Aabb::EMPTY;
         let mut query = world.query::<(&MeshInstance, &GlobalTransform)>();
         for (instance, global) in query.iter(world) {
-            let Some(&(count, mesh_bounds)) = mesh_stats.get(instance.mesh.0 as usize) else { continue };
+            let Some(&(count, mesh_bounds)) = mesh_stats.get(instance.mesh.0 as usize) else {
+                continue;
+            };
             instances += 1;
             triangles += count;
-            if emissive.get(instance.material.0 as usize).copied().unwrap_or(false) {
+            if emissive
+                .get(instance.material.0 as usize)
+                .copied()
+                .unwrap_or(false)
+            {
                 emissive_triangles += count;
             }
             bounds = bounds.union(mesh_bounds.transformed(&global.0));
@@ -122,7 +131,9 @@ impl SceneInfo {
             let e = world.get_entity(active.0).ok()?;
             let global = e.get::<GlobalTransform>()?;
             Some(CameraSummary {
-                name: e.get::<Name>().map_or_else(|| format!("{}", active.0), |n| n.to_string()),
+                name: e
+                    .get::<Name>()
+                    .map_or_else(|| format!("{}", active.0), |n| n.to_string()),
                 position: global.translation(),
                 forward: global.transform_vector(Vec3::NEG_Z).normalize_or_zero(),
                 projection: e.get::<Camera>()?.projection,
@@ -133,15 +144,26 @@ impl SceneInfo {
             None => "none (black)".to_owned(),
             Some(env) => {
                 let what = match &env.source {
-                    EnvironmentSource::Constant(c) => format!("constant ({:.3}, {:.3}, {:.3})", c.x, c.y, c.z),
-                    EnvironmentSource::Equirect(img) => format!("{} ({}x{})", img.path, img.width, img.height),
+                    EnvironmentSource::Constant(c) => {
+                        format!("constant ({:.3}, {:.3}, {:.3})", c.x, c.y, c.z)
+                    }
+                    EnvironmentSource::Equirect(img) => {
+                        format!("{} ({}x{})", img.path, img.width, img.height)
+                    }
                 };
-                format!("{what}, strength {}, rotation {} rad", env.strength, env.rotation)
+                format!(
+                    "{what}, strength {}, rotation {} rad",
+                    env.strength, env.rotation
+                )
             }
         };
         let repairs = world
             .get_resource::<ImportReport>()
-            .map(|r| r.repairs().map(|(s, r)| (s.to_owned(), r.clone())).collect())
+            .map(|r| {
+                r.repairs()
+                    .map(|(s, r)| (s.to_owned(), r.clone()))
+                    .collect()
+            })
             .unwrap_or_default();
         Self {
             meshes: mesh_stats.len(),
@@ -163,30 +185,56 @@ impl SceneInfo {
 
 impl fmt::Display for SceneInfo {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        writeln!(f, "meshes: {} ({} triangles stored)", self.meshes, self.mesh_triangles)?;
-        writeln!(f, "instances: {} ({} triangles traced)", self.instances, self.triangles)?;
+        writeln!(
+            f,
+            "meshes: {} ({} triangles stored)",
+            self.meshes, self.mesh_triangles
+        )?;
+        writeln!(
+            f,
+            "instances: {} ({} triangles traced)",
+            self.instances, self.triangles
+        )?;
         writeln!(f, "nodes: {}", self.nodes)?;
         writeln!(f, "materials: {}", self.materials.len())?;
         for m in &self.materials {
-            let slots = if m.texture_slots.is_empty() { "no textures".to_owned() } else { m.texture_slots.join(", ") };
+            let slots = if m.texture_slots.is_empty() {
+                "no textures".to_owned()
+            } else {
+                m.texture_slots.join(", ")
+            };
             let emissive = if m.emissive { ", emissive" } else { "" };
             writeln!(f, "  {}: {slots}{emissive}", m.name)?;
         }
         writeln!(f, "textures: {}", self.textures)?;
-        let lights: Vec<String> = self.lights.iter().map(|(k, n)| format!("{n} {k}")).collect();
+        let lights: Vec<String> = self
+            .lights
+            .iter()
+            .map(|(k, n)| format!("{n} {k}"))
+            .collect();
         writeln!(f, "lights: {}", lights.join(", "))?;
         writeln!(f, "emissive triangles: {}", self.emissive_triangles)?;
         match &self.camera {
             Some(c) => {
                 let projection = match c.projection {
-                    Projection::Perspective { yfov, .. } => format!("perspective, yfov {:.2} deg", yfov.to_degrees()),
-                    Projection::Orthographic { xmag, ymag, .. } => format!("orthographic, {xmag} x {ymag}"),
+                    Projection::Perspective { yfov, .. } => {
+                        format!("perspective, yfov {:.2} deg", yfov.to_degrees())
+                    }
+                    Projection::Orthographic { xmag, ymag, .. } => {
+                        format!("orthographic, {xmag} x {ymag}")
+                    }
                 };
                 let auto = if c.automatic { " (automatic)" } else { "" };
                 writeln!(
                     f,
                     "camera: {}{auto}: at ({:.4}, {:.4}, {:.4}) looking ({:.3}, {:.3}, {:.3}), {projection}",
-                    c.name, c.position.x, c.position.y, c.position.z, c.forward.x, c.forward.y, c.forward.z
+                    c.name,
+                    c.position.x,
+                    c.position.y,
+                    c.position.z,
+                    c.forward.x,
+                    c.forward.y,
+                    c.forward.z
                 )?;
             }
             None => writeln!(f, "camera: none")?,
@@ -196,7 +244,11 @@ impl fmt::Display for SceneInfo {
             writeln!(f, "bounds: empty")?;
         } else {
             let (lo, hi) = (self.bounds.min, self.bounds.max);
-            writeln!(f, "bounds: ({}, {}, {}) to ({}, {}, {})", lo.x, lo.y, lo.z, hi.x, hi.y, hi.z)?;
+            writeln!(
+                f,
+                "bounds: ({}, {}, {}) to ({}, {}, {})",
+                lo.x, lo.y, lo.z, hi.x, hi.y, hi.z
+            )?;
         }
         writeln!(f, "repairs: {}", self.repairs.len())?;
         for (source, r) in &self.repairs {

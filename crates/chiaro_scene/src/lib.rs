@@ -15,9 +15,13 @@
 //!
 //! let mut world = World::new();
 //! load_scene(&mut world, "builtin:cornell").unwrap();
-//! world.run_system_once(propagate_transforms).unwrap();
+//! // The app's schedule keeps world matrices current, as it would each frame.
+//! let mut schedule = Schedule::default();
+//! schedule.add_systems(propagate_transforms);
+//! schedule.run(&mut world);
 //! let info = SceneInfo::gather(&mut world);
 //! assert_eq!(info.triangles, 32);
+//! assert!(info.camera.is_some());
 //! ```
 
 pub mod bounds;

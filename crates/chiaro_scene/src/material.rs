@@ -242,7 +242,10 @@ mod tests {
     fn emitter_keeps_the_factor_in_range() {
         let m = Material::emitter("light", Vec3::new(17.0, 12.0, 4.0));
         assert!(m.emissive.max_element() <= 1.0);
-        assert!(m.emitted_radiance().abs_diff_eq(Vec3::new(17.0, 12.0, 4.0), 1e-4));
+        assert!(
+            m.emitted_radiance()
+                .abs_diff_eq(Vec3::new(17.0, 12.0, 4.0), 1e-4)
+        );
         assert!(m.is_emissive());
         assert!(!Material::default().is_emissive());
     }

@@ -80,7 +80,11 @@ pub(crate) fn repair_mesh(name: String, data: MeshData) -> Result<(Mesh, Vec<Str
         return Err(MeshFault::TooManyVertices(vertex_count));
     }
     check_length("normals", data.normals.as_ref().map(Vec::len), vertex_count)?;
-    check_length("tangents", data.tangents.as_ref().map(Vec::len), vertex_count)?;
+    check_length(
+        "tangents",
+        data.tangents.as_ref().map(Vec::len),
+        vertex_count,
+    )?;
     check_length("uv set 0", data.uvs[0].as_ref().map(Vec::len), vertex_count)?;
     check_length("uv set 1", data.uvs[1].as_ref().map(Vec::len), vertex_count)?;
 
@@ -113,7 +117,11 @@ pub(crate) fn repair_mesh(name: String, data: MeshData) -> Result<(Mesh, Vec<Str
     if indices.is_empty() {
         return Err(MeshFault::NoTriangles(format!(
             "all {total} triangles were dropped{}",
-            if repairs.is_empty() { String::new() } else { format!(" ({})", repairs.join("; ")) }
+            if repairs.is_empty() {
+                String::new()
+            } else {
+                format!(" ({})", repairs.join("; "))
+            }
         )));
     }
 
@@ -126,10 +134,14 @@ pub(crate) fn repair_mesh(name: String, data: MeshData) -> Result<(Mesh, Vec<Str
         indices,
     };
     for (set, uv) in mesh.uvs.iter_mut().enumerate() {
-        let fixed = uv.iter_mut().flatten().filter(|t| !t.is_finite()).fold(0, |n, t| {
-            *t = Vec2::ZERO;
-            n + 1
-        });
+        let fixed = uv
+            .iter_mut()
+            .flatten()
+            .filter(|t| !t.is_finite())
+            .fold(0, |n, t| {
+                *t = Vec2::ZERO;
+                n + 1
+            });
         if fixed > 0 {
             repairs.push(format!("set {fixed} non-finite UVs of set {set} to (0, 0)"));
         }
@@ -142,7 +154,11 @@ pub(crate) fn repair_mesh(name: String, data: MeshData) -> Result<(Mesh, Vec<Str
     Ok((mesh, repairs))
 }
 
-fn check_length(attribute: &'static str, len: Option<usize>, vertex_count: usize) -> Result<(), MeshFault> {
+fn check_length(
+    attribute: &'static str,
+    len: Option<usize>,
+    vertex_count: usize,
+) -> Result<(), MeshFault> {
     match len {
         Some(len) if len != vertex_count => Err(MeshFault::AttributeLength {
             attribute,
@@ -172,7 +188,10 @@ impl Dropped {
             (self.non_finite, "a non-finite position"),
             (self.out_of_range, "a coordinate beyond 1e18"),
             (self.repeated_index, "a repeated index (degenerate)"),
-            (self.zero_area, "zero area (collinear or coincident corners)"),
+            (
+                self.zero_area,
+                "zero area (collinear or coincident corners)",
+            ),
         ];
         for (count, reason) in reasons {
             if count > 0 {
@@ -205,7 +224,10 @@ fn drop_bad_triangles(positions: &[Vec3], indices: &[u32]) -> (Vec<u32>, Dropped
 fn is_zero_area(p: [Vec3; 3]) -> bool {
     let [a, b, c] = p.map(|v| v.as_dvec3());
     let (e0, e1, e2) = (b - a, c - a, c - b);
-    let longest = e0.length_squared().max(e1.length_squared()).max(e2.length_squared());
+    let longest = e0
+        .length_squared()
+        .max(e1.length_squared())
+        .max(e2.length_squared());
     let doubled_area = e0.cross(e1).length();
     doubled_area <= DEGENERATE_RELATIVE_AREA * longest || doubled_area == 0.0
 }
@@ -247,12 +269,18 @@ fn repair_normals(mesh: &mut Mesh, mut normals: Vec<Vec3>, repairs: &mut Vec<Str
 fn make_flat(mesh: &mut Mesh) {
     let corners = std::mem::take(&mut mesh.indices);
     let pick = |values: &[Vec2]| corners.iter().map(|&i| values[i as usize]).collect();
-    mesh.uvs = [mesh.uvs[0].as_deref().map(pick), mesh.uvs[1].as_deref().map(pick)];
+    mesh.uvs = [
+        mesh.uvs[0].as_deref().map(pick),
+        mesh.uvs[1].as_deref().map(pick),
+    ];
     mesh.tangents = mesh
         .tangents
         .as_deref()
         .map(|t| corners.iter().map(|&i| t[i as usize]).collect());
-    let positions: Vec<Vec3> = corners.iter().map(|&i| mesh.positions[i as usize]).collect();
+    let positions: Vec<Vec3> = corners
+        .iter()
+        .map(|&i| mesh.positions[i as usize])
+        .collect();
     mesh.normals = positions
         .chunks_exact(3)
         .flat_map(|p| {
@@ -323,7 +351,11 @@ mod tests {
         let fault = Mesh::new("q", data).unwrap_err();
         assert_eq!(
             fault,
-            MeshFault::IndexOutOfRange { index: 9, position: 2, vertex_count: 4 }
+            MeshFault::IndexOutOfRange {
+                index: 9,
+                position: 2,
+                vertex_count: 4
+            }
         );
     }
 
@@ -333,7 +365,10 @@ mod tests {
         data.positions[1] = Vec3::new(f32::NAN, 0.0, 0.0);
         let (mesh, repairs) = Mesh::new("q", data).unwrap();
         assert_eq!(mesh.indices(), &[0, 2, 3]);
-        assert_eq!(repairs, vec!["dropped 1 triangles with a non-finite position"]);
+        assert_eq!(
+            repairs,
+            vec!["dropped 1 triangles with a non-finite position"]
+        );
     }
 
     #[test]
@@ -356,7 +391,10 @@ mod tests {
             positions: vec![Vec3::ZERO; 3],
             ..Default::default()
         };
-        assert!(matches!(Mesh::new("z", data), Err(MeshFault::NoTriangles(_))));
+        assert!(matches!(
+            Mesh::new("z", data),
+            Err(MeshFault::NoTriangles(_))
+        ));
     }
 
     #[test]
@@ -400,7 +438,11 @@ mod tests {
         data.uvs[1] = Some(vec![Vec2::ZERO; 3]);
         assert!(matches!(
             Mesh::new("q", data),
-            Err(MeshFault::AttributeLength { attribute: "uv set 1", len: 3, vertex_count: 4 })
+            Err(MeshFault::AttributeLength {
+                attribute: "uv set 1",
+                len: 3,
+                vertex_count: 4
+            })
         ));
     }
 

@@ -109,7 +109,12 @@ impl SceneBuilder {
     /// Validates mesh data (see [`crate::mesh_repair`]) and adds the mesh. Repairs are recorded
     /// under `element`; data with no triangle left is dropped with a repair line (`Ok(None)`);
     /// other faults are errors naming `element`.
-    pub fn add_mesh(&mut self, element: &str, name: &str, data: MeshData) -> Result<Option<MeshId>, SceneError> {
+    pub fn add_mesh(
+        &mut self,
+        element: &str,
+        name: &str,
+        data: MeshData,
+    ) -> Result<Option<MeshId>, SceneError> {
         match Mesh::new(name, data) {
             Ok((mesh, repairs)) => {
                 for action in repairs {
@@ -140,13 +145,22 @@ impl SceneBuilder {
 
     /// Adds a node. Its parent, if any, must already be in the builder.
     pub fn add_node(&mut self, node: Node) -> NodeIndex {
-        assert!(node.parent.is_none_or(|p| p < self.nodes.len()), "parent added after child");
+        assert!(
+            node.parent.is_none_or(|p| p < self.nodes.len()),
+            "parent added after child"
+        );
         self.nodes.push(node);
         self.nodes.len() - 1
     }
 
     /// Adds a root node holding one mesh instance.
-    pub fn add_instance(&mut self, name: &str, mesh: MeshId, material: MaterialId, transform: Transform) -> NodeIndex {
+    pub fn add_instance(
+        &mut self,
+        name: &str,
+        mesh: MeshId,
+        material: MaterialId,
+        transform: Transform,
+    ) -> NodeIndex {
         self.add_node(Node {
             name: Some(name.to_owned()),
             transform,
@@ -181,7 +195,10 @@ impl SceneBuilder {
         self.world_matrices()
             .iter()
             .zip(&self.nodes)
-            .filter_map(|(m, n)| n.instance.map(|i| mesh_bounds[i.mesh.0 as usize].transformed(m)))
+            .filter_map(|(m, n)| {
+                n.instance
+                    .map(|i| mesh_bounds[i.mesh.0 as usize].transformed(m))
+            })
             .fold(Aabb::EMPTY, Aabb::union)
     }
 
@@ -253,7 +270,9 @@ impl SceneBuilder {
         }
         let camera = camera.unwrap_or_else(|| {
             let (transform, camera) = frame_bounds(&bounds);
-            world.spawn((transform, camera, AutoCamera, Name::new("automatic camera"))).id()
+            world
+                .spawn((transform, camera, AutoCamera, Name::new("automatic camera")))
+                .id()
         });
         world.insert_resource(ActiveCamera(camera));
         match self.environment {

@@ -94,7 +94,10 @@ pub(crate) fn generate_tangents(mesh: &mut Mesh, uv_set: usize) {
     let gather2 = |v: &[Vec2]| remap_source.iter().map(|&i| v[i]).collect::<Vec<_>>();
     mesh.positions = gather3(&mesh.positions);
     mesh.normals = gather3(&mesh.normals);
-    mesh.uvs = [mesh.uvs[0].as_deref().map(gather2), mesh.uvs[1].as_deref().map(gather2)];
+    mesh.uvs = [
+        mesh.uvs[0].as_deref().map(gather2),
+        mesh.uvs[1].as_deref().map(gather2),
+    ];
     mesh.tangents = Some(tangents);
 }
 

@@ -52,7 +52,10 @@ impl Transform {
     /// any perpendicular up is used.
     pub fn looking_at(eye: Vec3, target: Vec3, up: Vec3) -> Self {
         let back = (eye - target).normalize_or(Vec3::Z);
-        let right = up.cross(back).try_normalize().unwrap_or_else(|| back.any_orthonormal_vector());
+        let right = up
+            .cross(back)
+            .try_normalize()
+            .unwrap_or_else(|| back.any_orthonormal_vector());
         let true_up = back.cross(right);
         let rotation = Quat::from_mat3(&Mat3::from_cols(right, true_up, back));
         Self {
@@ -112,12 +115,19 @@ impl GlobalTransform {
     }
 }
 
+/// What [`propagate_transforms`] reads of each node: its transform, its parent link, its children.
+type NodeData = (
+    Ref<'static, Transform>,
+    Option<Ref<'static, ChildOf>>,
+    Option<&'static Children>,
+);
+
 /// Writes every [`GlobalTransform`] whose own [`Transform`], parent link, or any ancestor's
 /// transform changed since the system last ran; leaves the others untouched so change detection
 /// stays exact. Uses an explicit stack: deep hierarchies cannot overflow the call stack.
 pub fn propagate_transforms(
     roots: Query<Entity, (With<Transform>, Without<ChildOf>)>,
-    nodes: Query<(Ref<Transform>, Option<Ref<ChildOf>>, Option<&Children>)>,
+    nodes: Query<NodeData>,
     mut globals: Query<&mut GlobalTransform>,
 ) {
     let mut stack: Vec<(Entity, Affine3A, bool, usize)> = roots
@@ -129,7 +139,9 @@ pub fn propagate_transforms(
             continue;
         };
         if depth > MAX_HIERARCHY_DEPTH {
-            log::error!("hierarchy deeper than {MAX_HIERARCHY_DEPTH} levels at {entity}: not followed");
+            log::error!(
+                "hierarchy deeper than {MAX_HIERARCHY_DEPTH} levels at {entity}: not followed"
+            );
             continue;
         }
         let relinked = child_of.is_some_and(|c| c.is_changed());
@@ -167,5 +179,108 @@ mod tests {
         };
         let p = t.to_affine().transform_point3(Vec3::X);
         assert!(p.abs_diff_eq(Vec3::new(1.0, 2.0, 0.0), 1e-5), "{p}");
+    }
+
+    #[derive(Resource, Default)]
+    struct Moved(Vec<Entity>);
+
+    fn record_moved(query: Query<Entity, Changed<GlobalTransform>>, mut moved: ResMut<Moved>) {
+        moved.0 = query.iter().collect();
+        moved.0.sort();
+    }
+
+    fn schedule() -> Schedule {
+        let mut schedule = Schedule::default();
+        schedule.add_systems((propagate_transforms, record_moved).chain());
+        schedule
+    }
+
+    #[test]
+    fn three_levels_propagate_and_a_moved_parent_marks_its_children() {
+        let mut world = World::new();
+        world.init_resource::<Moved>();
+        let root = world
+            .spawn(Transform::from_translation(Vec3::X).with_scale(Vec3::splat(2.0)))
+            .id();
+        let rotation = Quat::from_rotation_z(std::f32::consts::FRAC_PI_2);
+        let middle = world
+            .spawn((
+                Transform::from_translation(Vec3::Y).with_rotation(rotation),
+                ChildOf(root),
+            ))
+            .id();
+        let leaf = world
+            .spawn((Transform::from_translation(Vec3::X), ChildOf(middle)))
+            .id();
+        let other = world.spawn(Transform::from_translation(Vec3::Z)).id();
+        let mut schedule = schedule();
+        schedule.run(&mut world);
+
+        let global = |world: &World, e| world.get::<GlobalTransform>(e).unwrap().0;
+        // middle: root * (translate Y, rotate 90 about Z) -> origin at (1, 2, 0)
+        assert!(
+            global(&world, middle)
+                .translation
+                .abs_diff_eq(Vec3::new(1.0, 2.0, 0.0).into(), 1e-6)
+        );
+        // leaf: its +X offset is rotated to +Y and scaled by 2 -> (1, 4, 0)
+        let leaf_world = global(&world, leaf);
+        assert!(
+            leaf_world
+                .translation
+                .abs_diff_eq(Vec3::new(1.0, 4.0, 0.0).into(), 1e-5)
+        );
+        let expected = Affine3A::from_translation(Vec3::X)
+            * Affine3A::from_scale(Vec3::splat(2.0))
+            * Affine3A::from_translation(Vec3::Y)
+            * Affine3A::from_quat(rotation)
+            * Affine3A::from_translation(Vec3::X);
+        assert!(leaf_world.abs_diff_eq(expected, 1e-5));
+
+        schedule.run(&mut world);
+        assert!(
+            world.resource::<Moved>().0.is_empty(),
+            "nothing moved, nothing changed"
+        );
+
+        world.get_mut::<Transform>(root).unwrap().translation = Vec3::new(5.0, 0.0, 0.0);
+        schedule.run(&mut world);
+        let mut expected_moved = vec![root, middle, leaf];
+        expected_moved.sort();
+        assert_eq!(world.resource::<Moved>().0, expected_moved);
+        assert!(!world.resource::<Moved>().0.contains(&other));
+        assert!(
+            global(&world, leaf)
+                .translation
+                .abs_diff_eq(Vec3::new(5.0, 4.0, 0.0).into(), 1e-5)
+        );
+
+        world.get_mut::<Transform>(middle).unwrap().scale = Vec3::splat(3.0);
+        schedule.run(&mut world);
+        let mut expected_moved = vec![middle, leaf];
+        expected_moved.sort();
+        assert_eq!(
+            world.resource::<Moved>().0,
+            expected_moved,
+            "a child's edit leaves its parent alone"
+        );
+    }
+
+    #[test]
+    fn reparenting_moves_the_child() {
+        let mut world = World::new();
+        world.init_resource::<Moved>();
+        let a = world.spawn(Transform::from_translation(Vec3::X)).id();
+        let b = world.spawn(Transform::from_translation(Vec3::Y)).id();
+        let child = world.spawn((Transform::IDENTITY, ChildOf(a))).id();
+        let mut schedule = schedule();
+        schedule.run(&mut world);
+        world.entity_mut(child).insert(ChildOf(b));
+        schedule.run(&mut world);
+        assert_eq!(world.resource::<Moved>().0, vec![child]);
+        assert_eq!(
+            world.get::<GlobalTransform>(child).unwrap().translation(),
+            Vec3::Y
+        );
     }
 }

@@ -21,12 +21,25 @@ pub(super) fn build(b: &mut SceneBuilder) -> Result<(), SceneError> {
     shell.ior = 1.0;
     shell.double_sided = true;
     let material = b.add_material(shell);
-    if let Some(mesh) = b.add_mesh("mesh \"sphere\"", "sphere", icosphere(FURNACE_SUBDIVISION, true))? {
-        b.add_instance("sphere", mesh, material, Transform::IDENTITY.with_scale(Vec3::splat(10.0)));
+    if let Some(mesh) = b.add_mesh(
+        "mesh \"sphere\"",
+        "sphere",
+        icosphere(FURNACE_SUBDIVISION, true),
+    )? {
+        b.add_instance(
+            "sphere",
+            mesh,
+            material,
+            Transform::IDENTITY.with_scale(Vec3::splat(10.0)),
+        );
     }
     b.add_node(Node {
         name: Some("camera".into()),
-        transform: Transform::looking_at(Vec3::new(0.0, 1.0, 2.0), Vec3::new(0.0, 0.0, -3.0), Vec3::Y),
+        transform: Transform::looking_at(
+            Vec3::new(0.0, 1.0, 2.0),
+            Vec3::new(0.0, 0.0, -3.0),
+            Vec3::Y,
+        ),
         camera: Some(Camera {
             projection: Projection::Perspective {
                 yfov: 60f32.to_radians(),

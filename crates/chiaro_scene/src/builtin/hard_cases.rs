@@ -27,8 +27,16 @@ use super::Params;
 use super::shapes::{cuboid, floor, icosphere, quad};
 
 /// The cases, in layout order.
-pub const HARD_CASES: [&str; 8] =
-    ["spheres", "grazing", "scale", "lit-group", "far-copy", "coplanar", "tiny-emitter", "degenerate"];
+pub const HARD_CASES: [&str; 8] = [
+    "spheres",
+    "grazing",
+    "scale",
+    "lit-group",
+    "far-copy",
+    "coplanar",
+    "tiny-emitter",
+    "degenerate",
+];
 
 /// Distance between neighbouring cases along X.
 const SPACING: f32 = 100.0;
@@ -55,9 +63,18 @@ struct Case<'a> {
 }
 
 impl Case<'_> {
-    fn mesh(&mut self, name: &str, data: MeshData, material: MaterialId, transform: Transform) -> Result<(), SceneError> {
+    fn mesh(
+        &mut self,
+        name: &str,
+        data: MeshData,
+        material: MaterialId,
+        transform: Transform,
+    ) -> Result<(), SceneError> {
         if let Some(mesh) = self.b.add_mesh(&format!("mesh {name:?}"), name, data)? {
-            let t = Transform { translation: transform.translation + self.origin, ..transform };
+            let t = Transform {
+                translation: transform.translation + self.origin,
+                ..transform
+            };
             self.b.add_instance(name, mesh, material, t);
         }
         Ok(())
@@ -83,26 +100,54 @@ impl Case<'_> {
         self.b.add_node(Node {
             name: Some(name.into()),
             transform: Transform::from_translation(at + self.origin),
-            light: Some(Light { kind: LightKind::Point, color: Vec3::ONE, intensity, range: None }),
+            light: Some(Light {
+                kind: LightKind::Point,
+                color: Vec3::ONE,
+                intensity,
+                range: None,
+            }),
             ..Node::default()
         });
     }
 
-    fn emitter(&mut self, name: &str, center: Vec3, size: f32, radiance: f32) -> Result<(), SceneError> {
+    fn emitter(
+        &mut self,
+        name: &str,
+        center: Vec3,
+        size: f32,
+        radiance: f32,
+    ) -> Result<(), SceneError> {
         let h = 0.5 * size;
-        let corners = [Vec3::new(-h, 0.0, -h), Vec3::new(h, 0.0, -h), Vec3::new(h, 0.0, h), Vec3::new(-h, 0.0, h)];
-        let material = self.b.add_material(Material::emitter(name, Vec3::splat(radiance)));
-        self.mesh(name, quad(corners, Vec3::NEG_Y), material, Transform::from_translation(center))
+        let corners = [
+            Vec3::new(-h, 0.0, -h),
+            Vec3::new(h, 0.0, -h),
+            Vec3::new(h, 0.0, h),
+            Vec3::new(-h, 0.0, h),
+        ];
+        let material = self
+            .b
+            .add_material(Material::emitter(name, Vec3::splat(radiance)));
+        self.mesh(
+            name,
+            quad(corners, Vec3::NEG_Y),
+            material,
+            Transform::from_translation(center),
+        )
     }
 }
 
 fn build_case(b: &mut SceneBuilder, case: &str, grey: MaterialId) -> Result<(), SceneError> {
-    let mut c = Case { b, origin: origin(case), grey };
+    let mut c = Case {
+        b,
+        origin: origin(case),
+        grey,
+    };
     match case {
         "spheres" => {
             c.mesh("spheres floor", floor(12.0), c.grey, Transform::IDENTITY)?;
             let roughness = [0.0, 0.001, 0.5, 1.0];
-            let sphere = c.b.add_mesh("mesh \"sphere\"", "sphere", icosphere(4, false))?;
+            let sphere =
+                c.b.add_mesh("mesh \"sphere\"", "sphere", icosphere(4, false))?;
             for (row, metallic) in [0.0f32, 1.0].into_iter().enumerate() {
                 for (col, &r) in roughness.iter().enumerate() {
                     let name = format!("metallic {metallic} roughness {r}");
@@ -111,50 +156,165 @@ fn build_case(b: &mut SceneBuilder, case: &str, grey: MaterialId) -> Result<(), 
                     let id = c.b.add_material(m);
                     let at = c.origin + Vec3::new(col as f32 * 1.2 - 1.8, 0.5, -(row as f32) * 1.5);
                     if let Some(sphere) = sphere {
-                        c.b.add_instance(&name, sphere, id, Transform::from_translation(at).with_scale(Vec3::splat(0.5)));
+                        c.b.add_instance(
+                            &name,
+                            sphere,
+                            id,
+                            Transform::from_translation(at).with_scale(Vec3::splat(0.5)),
+                        );
                     }
                 }
             }
             c.emitter("spheres light", Vec3::new(0.0, 4.0, 1.0), 2.0, 10.0)?;
-            c.camera("spheres", Vec3::new(0.0, 2.0, 5.0), Vec3::new(0.0, 0.4, -0.75), 40.0);
+            c.camera(
+                "spheres",
+                Vec3::new(0.0, 2.0, 5.0),
+                Vec3::new(0.0, 0.4, -0.75),
+                40.0,
+            );
         }
         "grazing" => {
             c.mesh("grazing plane", floor(60.0), c.grey, Transform::IDENTITY)?;
-            c.mesh("grazing marker", cuboid(Vec3::splat(-0.25), Vec3::splat(0.25)), c.grey, Transform::from_translation(Vec3::new(0.0, 0.25, -10.0)))?;
-            c.camera("grazing", Vec3::new(0.0, 0.3, 25.0), Vec3::new(0.0, 0.3 - 50.0 * 1f32.to_radians().tan(), -25.0), 30.0);
+            c.mesh(
+                "grazing marker",
+                cuboid(Vec3::splat(-0.25), Vec3::splat(0.25)),
+                c.grey,
+                Transform::from_translation(Vec3::new(0.0, 0.25, -10.0)),
+            )?;
+            c.camera(
+                "grazing",
+                Vec3::new(0.0, 0.3, 25.0),
+                Vec3::new(0.0, 0.3 - 50.0 * 1f32.to_radians().tan(), -25.0),
+                30.0,
+            );
         }
         "scale" => {
-            c.mesh("huge box", cuboid(Vec3::new(-5.0e4, -1.0e5, -5.0e4), Vec3::new(5.0e4, 0.0, 5.0e4)), c.grey, Transform::IDENTITY)?;
-            c.mesh("tiny cube", cuboid(Vec3::ZERO, Vec3::splat(1.0e-3)), c.grey, Transform::from_translation(Vec3::new(-5.0e-4, 0.0, -5.0e-4)))?;
-            c.camera("scale", Vec3::new(0.002, 0.0025, 0.004), Vec3::new(0.0, 0.0004, 0.0), 40.0);
+            c.mesh(
+                "huge box",
+                cuboid(
+                    Vec3::new(-5.0e4, -1.0e5, -5.0e4),
+                    Vec3::new(5.0e4, 0.0, 5.0e4),
+                ),
+                c.grey,
+                Transform::IDENTITY,
+            )?;
+            c.mesh(
+                "tiny cube",
+                cuboid(Vec3::ZERO, Vec3::splat(1.0e-3)),
+                c.grey,
+                Transform::from_translation(Vec3::new(-5.0e-4, 0.0, -5.0e-4)),
+            )?;
+            c.camera(
+                "scale",
+                Vec3::new(0.002, 0.0025, 0.004),
+                Vec3::new(0.0, 0.0004, 0.0),
+                40.0,
+            );
         }
         "lit-group" | "far-copy" => {
-            c.mesh(&format!("{case} floor"), floor(4.0), c.grey, Transform::IDENTITY)?;
-            let blue = c.b.add_material(Material::diffuse(&format!("{case} blue"), Vec3::new(0.2, 0.3, 0.8), 0.4));
-            c.mesh(&format!("{case} sphere"), icosphere(3, false), blue, Transform::from_translation(Vec3::new(-0.5, 0.4, 0.0)).with_scale(Vec3::splat(0.4)))?;
-            let rotated = Transform::from_translation(Vec3::new(0.6, 0.0, -0.3)).with_rotation(Quat::from_rotation_y(0.5));
-            c.mesh(&format!("{case} box"), cuboid(Vec3::new(-0.3, 0.0, -0.3), Vec3::new(0.3, 0.6, 0.3)), c.grey, rotated)?;
-            c.emitter(&format!("{case} light"), Vec3::new(0.0, 2.0, 0.5), 0.5, 20.0)?;
-            c.point_light(&format!("{case} point light"), Vec3::new(-1.0, 1.5, 1.0), 2.0);
-            c.camera(case, Vec3::new(0.0, 1.2, 3.0), Vec3::new(0.0, 0.3, 0.0), 45.0);
+            c.mesh(
+                &format!("{case} floor"),
+                floor(4.0),
+                c.grey,
+                Transform::IDENTITY,
+            )?;
+            let blue = c.b.add_material(Material::diffuse(
+                &format!("{case} blue"),
+                Vec3::new(0.2, 0.3, 0.8),
+                0.4,
+            ));
+            c.mesh(
+                &format!("{case} sphere"),
+                icosphere(3, false),
+                blue,
+                Transform::from_translation(Vec3::new(-0.5, 0.4, 0.0)).with_scale(Vec3::splat(0.4)),
+            )?;
+            let rotated = Transform::from_translation(Vec3::new(0.6, 0.0, -0.3))
+                .with_rotation(Quat::from_rotation_y(0.5));
+            c.mesh(
+                &format!("{case} box"),
+                cuboid(Vec3::new(-0.3, 0.0, -0.3), Vec3::new(0.3, 0.6, 0.3)),
+                c.grey,
+                rotated,
+            )?;
+            c.emitter(
+                &format!("{case} light"),
+                Vec3::new(0.0, 2.0, 0.5),
+                0.5,
+                20.0,
+            )?;
+            c.point_light(
+                &format!("{case} point light"),
+                Vec3::new(-1.0, 1.5, 1.0),
+                2.0,
+            );
+            c.camera(
+                case,
+                Vec3::new(0.0, 1.2, 3.0),
+                Vec3::new(0.0, 0.3, 0.0),
+                45.0,
+            );
         }
         "coplanar" => {
-            let red = c.b.add_material(Material::diffuse("coplanar red", Vec3::new(0.8, 0.1, 0.1), 1.0));
-            let blue = c.b.add_material(Material::diffuse("coplanar blue", Vec3::new(0.1, 0.1, 0.8), 1.0));
-            c.mesh("coplanar red quad", floor(2.0), red, Transform::from_translation(Vec3::new(-0.5, 0.0, 0.0)))?;
-            c.mesh("coplanar blue quad", floor(2.0), blue, Transform::from_translation(Vec3::new(0.5, 0.0, 0.0)))?;
+            let red = c.b.add_material(Material::diffuse(
+                "coplanar red",
+                Vec3::new(0.8, 0.1, 0.1),
+                1.0,
+            ));
+            let blue = c.b.add_material(Material::diffuse(
+                "coplanar blue",
+                Vec3::new(0.1, 0.1, 0.8),
+                1.0,
+            ));
+            c.mesh(
+                "coplanar red quad",
+                floor(2.0),
+                red,
+                Transform::from_translation(Vec3::new(-0.5, 0.0, 0.0)),
+            )?;
+            c.mesh(
+                "coplanar blue quad",
+                floor(2.0),
+                blue,
+                Transform::from_translation(Vec3::new(0.5, 0.0, 0.0)),
+            )?;
             c.camera("coplanar", Vec3::new(0.0, 3.0, 2.0), Vec3::ZERO, 45.0);
         }
         "tiny-emitter" => {
-            c.mesh("tiny-emitter floor", floor(6.0), c.grey, Transform::IDENTITY)?;
-            c.mesh("tiny-emitter sphere", icosphere(3, false), c.grey, Transform::from_translation(Vec3::new(0.8, 0.5, 0.0)).with_scale(Vec3::splat(0.5)))?;
+            c.mesh(
+                "tiny-emitter floor",
+                floor(6.0),
+                c.grey,
+                Transform::IDENTITY,
+            )?;
+            c.mesh(
+                "tiny-emitter sphere",
+                icosphere(3, false),
+                c.grey,
+                Transform::from_translation(Vec3::new(0.8, 0.5, 0.0)).with_scale(Vec3::splat(0.5)),
+            )?;
             c.emitter("tiny emitter", Vec3::new(0.0, 1.0, 0.0), 0.01, 1.0e5)?;
-            c.camera("tiny-emitter", Vec3::new(0.0, 1.5, 3.5), Vec3::new(0.3, 0.4, 0.0), 45.0);
+            c.camera(
+                "tiny-emitter",
+                Vec3::new(0.0, 1.5, 3.5),
+                Vec3::new(0.3, 0.4, 0.0),
+                45.0,
+            );
         }
         "degenerate" => {
             c.mesh("degenerate floor", floor(4.0), c.grey, Transform::IDENTITY)?;
-            c.mesh("degenerate mesh", degenerate_mesh(), c.grey, Transform::from_translation(Vec3::new(0.0, 0.5, 0.0)))?;
-            c.camera("degenerate", Vec3::new(0.0, 1.0, 3.0), Vec3::new(0.0, 0.5, 0.0), 45.0);
+            c.mesh(
+                "degenerate mesh",
+                degenerate_mesh(),
+                c.grey,
+                Transform::from_translation(Vec3::new(0.0, 0.5, 0.0)),
+            )?;
+            c.camera(
+                "degenerate",
+                Vec3::new(0.0, 1.0, 3.0),
+                Vec3::new(0.0, 0.5, 0.0),
+                45.0,
+            );
         }
         _ => unreachable!("case names are checked by build"),
     }
@@ -175,7 +335,12 @@ pub fn degenerate_mesh() -> MeshData {
     ];
     let normals = Some(vec![Vec3::Z; positions.len()]);
     let indices = Some(vec![0, 1, 2, 0, 2, 3, 0, 0, 1, 0, 4, 1, 1, 2, 5, 2, 6, 3]);
-    MeshData { positions, normals, indices, ..MeshData::default() }
+    MeshData {
+        positions,
+        normals,
+        indices,
+        ..MeshData::default()
+    }
 }
 
 /// Builds all cases, or the one named by the `case` parameter.
@@ -187,7 +352,10 @@ pub(super) fn build(b: &mut SceneBuilder, params: &mut Params) -> Result<(), Sce
             None => {
                 return Err(SceneError::whole(
                     b.source().to_owned(),
-                    Fault::Builtin(format!("unknown case '{name}' (known: {})", HARD_CASES.join(", "))),
+                    Fault::Builtin(format!(
+                        "unknown case '{name}' (known: {})",
+                        HARD_CASES.join(", ")
+                    )),
                 ));
             }
         },
@@ -199,7 +367,12 @@ pub(super) fn build(b: &mut SceneBuilder, params: &mut Params) -> Result<(), Sce
     b.add_node(Node {
         name: Some("sun".into()),
         transform: Transform::looking_at(Vec3::ZERO, Vec3::new(-0.4, -1.0, -0.6), Vec3::Y),
-        light: Some(Light { kind: LightKind::Directional, color: Vec3::ONE, intensity: 2.0, range: None }),
+        light: Some(Light {
+            kind: LightKind::Directional,
+            color: Vec3::ONE,
+            intensity: 2.0,
+            range: None,
+        }),
         ..Node::default()
     });
     b.set_environment(Environment::constant(Vec3::new(0.25, 0.3, 0.4)));

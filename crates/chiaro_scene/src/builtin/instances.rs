@@ -33,7 +33,11 @@ pub(super) fn build(b: &mut SceneBuilder, params: &mut Params) -> Result<(), Sce
         .map(|k| {
             let hue = k as f32 / 8.0 * std::f32::consts::TAU;
             let color = Vec3::new(hue.cos(), (hue + 2.1).cos(), (hue + 4.2).cos()) * 0.35 + 0.5;
-            b.add_material(Material::diffuse(&format!("instance colour {k}"), color, 0.2 + 0.1 * k as f32))
+            b.add_material(Material::diffuse(
+                &format!("instance colour {k}"),
+                color,
+                0.2 + 0.1 * k as f32,
+            ))
         })
         .collect();
     if let Some(sphere) = b.add_mesh("mesh \"sphere\"", "sphere", icosphere(1, false))? {
@@ -45,13 +49,23 @@ pub(super) fn build(b: &mut SceneBuilder, params: &mut Params) -> Result<(), Sce
                 (row as f32 + 0.5) * PITCH - 0.5 * extent,
             );
             let material = palette[(row + col) % palette.len()];
-            b.add_instance(&format!("instance {i}"), sphere, material, Transform::from_translation(at).with_scale(Vec3::splat(0.5)));
+            b.add_instance(
+                &format!("instance {i}"),
+                sphere,
+                material,
+                Transform::from_translation(at).with_scale(Vec3::splat(0.5)),
+            );
         }
     }
     b.add_node(Node {
         name: Some("sun".into()),
         transform: Transform::looking_at(Vec3::ZERO, Vec3::new(-0.3, -1.0, -0.5), Vec3::Y),
-        light: Some(Light { kind: LightKind::Directional, color: Vec3::new(1.0, 0.95, 0.9), intensity: 3.0, range: None }),
+        light: Some(Light {
+            kind: LightKind::Directional,
+            color: Vec3::new(1.0, 0.95, 0.9),
+            intensity: 3.0,
+            range: None,
+        }),
         ..Node::default()
     });
     let eye = Vec3::new(0.0, 0.6 * extent + 2.0, 0.75 * extent + 3.0);
@@ -59,7 +73,12 @@ pub(super) fn build(b: &mut SceneBuilder, params: &mut Params) -> Result<(), Sce
         name: Some("camera".into()),
         transform: Transform::looking_at(eye, Vec3::ZERO, Vec3::Y),
         camera: Some(Camera {
-            projection: Projection::Perspective { yfov: 50f32.to_radians(), aspect_ratio: None, znear: 0.05, zfar: None },
+            projection: Projection::Perspective {
+                yfov: 50f32.to_radians(),
+                aspect_ratio: None,
+                znear: 0.05,
+                zfar: None,
+            },
         }),
         ..Node::default()
     });

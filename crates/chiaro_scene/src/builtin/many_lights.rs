@@ -30,14 +30,30 @@ pub(super) fn build(b: &mut SceneBuilder, params: &mut Params) -> Result<(), Sce
         b.add_instance("floor", mesh, grey, Transform::IDENTITY);
     }
     let sphere = b.add_mesh("mesh \"sphere\"", "sphere", icosphere(2, false))?;
-    let block = b.add_mesh("mesh \"block\"", "block", cuboid(Vec3::new(-0.5, 0.0, -0.5), Vec3::new(0.5, 1.0, 0.5)))?;
+    let block = b.add_mesh(
+        "mesh \"block\"",
+        "block",
+        cuboid(Vec3::new(-0.5, 0.0, -0.5), Vec3::new(0.5, 1.0, 0.5)),
+    )?;
     let shiny = b.add_material(Material::diffuse("shiny", Vec3::splat(0.8), 0.25));
     for k in 0..16 {
         let at = Vec3::new(layout.range(-HALF, HALF), 0.0, layout.range(-HALF, HALF));
         let (mesh, material, t) = if k % 2 == 0 {
-            (sphere, shiny, Transform::from_translation(at + Vec3::Y * 0.6).with_scale(Vec3::splat(0.6)))
+            (
+                sphere,
+                shiny,
+                Transform::from_translation(at + Vec3::Y * 0.6).with_scale(Vec3::splat(0.6)),
+            )
         } else {
-            (block, grey, Transform::from_translation(at).with_scale(Vec3::new(0.8, layout.range(0.5, 2.0), 0.8)))
+            (
+                block,
+                grey,
+                Transform::from_translation(at).with_scale(Vec3::new(
+                    0.8,
+                    layout.range(0.5, 2.0),
+                    0.8,
+                )),
+            )
         };
         if let Some(mesh) = mesh {
             b.add_instance(&format!("prop {k}"), mesh, material, t);
@@ -57,26 +73,52 @@ pub(super) fn build(b: &mut SceneBuilder, params: &mut Params) -> Result<(), Sce
         .collect();
     let h = 0.1;
     let tile = quad(
-        [Vec3::new(-h, 0.0, -h), Vec3::new(h, 0.0, -h), Vec3::new(h, 0.0, h), Vec3::new(-h, 0.0, h)],
+        [
+            Vec3::new(-h, 0.0, -h),
+            Vec3::new(h, 0.0, -h),
+            Vec3::new(h, 0.0, h),
+            Vec3::new(-h, 0.0, h),
+        ],
         Vec3::NEG_Y,
     );
     if let Some(tile) = b.add_mesh("mesh \"emitter tile\"", "emitter tile", tile)? {
         for k in 0..quads {
-            let at = Vec3::new(layout.range(-HALF, HALF), layout.range(1.5, 4.0), layout.range(-HALF, HALF));
-            b.add_instance(&format!("emitter {k}"), tile, emitters[k % emitters.len()], Transform::from_translation(at));
+            let at = Vec3::new(
+                layout.range(-HALF, HALF),
+                layout.range(1.5, 4.0),
+                layout.range(-HALF, HALF),
+            );
+            b.add_instance(
+                &format!("emitter {k}"),
+                tile,
+                emitters[k % emitters.len()],
+                Transform::from_translation(at),
+            );
         }
     }
     for k in 0..lights {
-        let at = Vec3::new(layout.range(-HALF, HALF), layout.range(0.8, 3.0), layout.range(-HALF, HALF));
+        let at = Vec3::new(
+            layout.range(-HALF, HALF),
+            layout.range(0.8, 3.0),
+            layout.range(-HALF, HALF),
+        );
         let kind = if k % 3 == 2 {
-            LightKind::Spot { inner_cone_angle: 0.3, outer_cone_angle: 0.6 }
+            LightKind::Spot {
+                inner_cone_angle: 0.3,
+                outer_cone_angle: 0.6,
+            }
         } else {
             LightKind::Point
         };
         b.add_node(Node {
             name: Some(format!("light {k}")),
             transform: Transform::looking_at(at, at + Vec3::new(0.1, -1.0, 0.0), Vec3::Y),
-            light: Some(Light { kind, color: palette[(k + 3) % palette.len()], intensity: 1.5, range: None }),
+            light: Some(Light {
+                kind,
+                color: palette[(k + 3) % palette.len()],
+                intensity: 1.5,
+                range: None,
+            }),
             ..Node::default()
         });
     }
@@ -85,7 +127,12 @@ pub(super) fn build(b: &mut SceneBuilder, params: &mut Params) -> Result<(), Sce
         name: Some("camera".into()),
         transform: Transform::looking_at(eye, Vec3::ZERO, Vec3::Y),
         camera: Some(Camera {
-            projection: Projection::Perspective { yfov: 55f32.to_radians(), aspect_ratio: None, znear: 0.05, zfar: None },
+            projection: Projection::Perspective {
+                yfov: 55f32.to_radians(),
+                aspect_ratio: None,
+                znear: 0.05,
+                zfar: None,
+            },
         }),
         ..Node::default()
     });

@@ -26,7 +26,13 @@ use crate::scene_builder::SceneBuilder;
 pub use hard_cases::HARD_CASES;
 
 /// Names of the built-in scenes.
-pub const BUILTIN_SCENES: [&str; 5] = ["cornell", "furnace", "hard-cases", "instances", "many-lights"];
+pub const BUILTIN_SCENES: [&str; 5] = [
+    "cornell",
+    "furnace",
+    "hard-cases",
+    "instances",
+    "many-lights",
+];
 
 /// Parameters of a built-in scene, parsed from its `?key=value&...` suffix.
 pub(crate) struct Params {
@@ -45,7 +51,9 @@ impl Params {
             None => Ok(default),
             Some(text) => match text.parse::<usize>() {
                 Ok(v) if v <= max => Ok(v),
-                _ => Err(self.error(format!("parameter {key}={text} is not a whole number in 0..={max}"))),
+                _ => Err(self.error(format!(
+                    "parameter {key}={text} is not a whole number in 0..={max}"
+                ))),
             },
         }
     }
@@ -78,7 +86,10 @@ pub fn build(spec: &str) -> Result<SceneBuilder, SceneError> {
             .ok_or_else(|| whole(format!("parameter '{pair}' is not key=value")))?;
         values.insert(k.to_owned(), v.to_owned());
     }
-    let mut params = Params { spec: spec.to_owned(), values };
+    let mut params = Params {
+        spec: spec.to_owned(),
+        values,
+    };
     let mut builder = SceneBuilder::new(spec);
     match name {
         "cornell" => cornell::build(&mut builder)?,
@@ -132,7 +143,10 @@ mod tests {
         let e = build("builtin:cornell?n=3").unwrap_err().to_string();
         assert!(e.contains("unknown parameter 'n'"), "{e}");
         let e = build("builtin:instances?n=lots").unwrap_err().to_string();
-        assert!(e.starts_with("builtin:instances?n=lots: parameter n=lots"), "{e}");
+        assert!(
+            e.starts_with("builtin:instances?n=lots: parameter n=lots"),
+            "{e}"
+        );
         assert!(build("builtin:instances?n=100000000000").is_err());
     }
 

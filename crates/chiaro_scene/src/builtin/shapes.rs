@@ -56,12 +56,42 @@ pub fn cuboid(min: Vec3, max: Vec3) -> MeshData {
         Vec3::new([min.x, max.x][x], [min.y, max.y][y], [min.z, max.z][z])
     };
     let faces = [
-        [corner(0, 0, 0), corner(0, 1, 0), corner(0, 1, 1), corner(0, 0, 1)],
-        [corner(1, 0, 0), corner(1, 1, 0), corner(1, 1, 1), corner(1, 0, 1)],
-        [corner(0, 0, 0), corner(1, 0, 0), corner(1, 0, 1), corner(0, 0, 1)],
-        [corner(0, 1, 0), corner(1, 1, 0), corner(1, 1, 1), corner(0, 1, 1)],
-        [corner(0, 0, 0), corner(1, 0, 0), corner(1, 1, 0), corner(0, 1, 0)],
-        [corner(0, 0, 1), corner(1, 0, 1), corner(1, 1, 1), corner(0, 1, 1)],
+        [
+            corner(0, 0, 0),
+            corner(0, 1, 0),
+            corner(0, 1, 1),
+            corner(0, 0, 1),
+        ],
+        [
+            corner(1, 0, 0),
+            corner(1, 1, 0),
+            corner(1, 1, 1),
+            corner(1, 0, 1),
+        ],
+        [
+            corner(0, 0, 0),
+            corner(1, 0, 0),
+            corner(1, 0, 1),
+            corner(0, 0, 1),
+        ],
+        [
+            corner(0, 1, 0),
+            corner(1, 1, 0),
+            corner(1, 1, 1),
+            corner(0, 1, 1),
+        ],
+        [
+            corner(0, 0, 0),
+            corner(1, 0, 0),
+            corner(1, 1, 0),
+            corner(0, 1, 0),
+        ],
+        [
+            corner(0, 0, 1),
+            corner(1, 0, 1),
+            corner(1, 1, 1),
+            corner(0, 1, 1),
+        ],
     ];
     for f in faces {
         let face_center = 0.25 * (f[0] + f[1] + f[2] + f[3]);
@@ -76,18 +106,43 @@ pub fn cuboid(min: Vec3, max: Vec3) -> MeshData {
 pub fn icosphere(level: u32, inward: bool) -> MeshData {
     let t = (1.0 + 5f32.sqrt()) / 2.0;
     let mut positions: Vec<Vec3> = [
-        (-1.0, t, 0.0), (1.0, t, 0.0), (-1.0, -t, 0.0), (1.0, -t, 0.0),
-        (0.0, -1.0, t), (0.0, 1.0, t), (0.0, -1.0, -t), (0.0, 1.0, -t),
-        (t, 0.0, -1.0), (t, 0.0, 1.0), (-t, 0.0, -1.0), (-t, 0.0, 1.0),
+        (-1.0, t, 0.0),
+        (1.0, t, 0.0),
+        (-1.0, -t, 0.0),
+        (1.0, -t, 0.0),
+        (0.0, -1.0, t),
+        (0.0, 1.0, t),
+        (0.0, -1.0, -t),
+        (0.0, 1.0, -t),
+        (t, 0.0, -1.0),
+        (t, 0.0, 1.0),
+        (-t, 0.0, -1.0),
+        (-t, 0.0, 1.0),
     ]
     .iter()
     .map(|&(x, y, z)| Vec3::new(x, y, z).normalize())
     .collect();
     let mut faces: Vec<[u32; 3]> = vec![
-        [0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11],
-        [1, 5, 9], [5, 11, 4], [11, 10, 2], [10, 7, 6], [7, 1, 8],
-        [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8], [3, 8, 9],
-        [4, 9, 5], [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1],
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
     ];
     for _ in 0..level {
         let mut midpoints: HashMap<(u32, u32), u32> = HashMap::new();
@@ -140,7 +195,10 @@ mod tests {
         let out = idx
             .chunks_exact(3)
             .filter(|t| {
-                let p = t.iter().map(|&i| data.positions[i as usize]).collect::<Vec<_>>();
+                let p = t
+                    .iter()
+                    .map(|&i| data.positions[i as usize])
+                    .collect::<Vec<_>>();
                 let n = (p[1] - p[0]).cross(p[2] - p[0]);
                 n.dot((p[0] + p[1] + p[2]) / 3.0 - center) > 0.0
             })

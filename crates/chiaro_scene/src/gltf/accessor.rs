@@ -75,15 +75,16 @@ impl AccessorReader<'_> {
             .get(view.buffer().index())
             .ok_or_else(|| format!("buffer view {} refers to a missing buffer", view.index()))?;
         let end = view.offset().checked_add(view.length());
-        end.and_then(|end| buffer.get(view.offset()..end)).ok_or_else(|| {
-            format!(
-                "buffer view {} (offset {}, length {}) does not fit its buffer of {} bytes",
-                view.index(),
-                view.offset(),
-                view.length(),
-                buffer.len()
-            )
-        })
+        end.and_then(|end| buffer.get(view.offset()..end))
+            .ok_or_else(|| {
+                format!(
+                    "buffer view {} (offset {}, length {}) does not fit its buffer of {} bytes",
+                    view.index(),
+                    view.offset(),
+                    view.length(),
+                    buffer.len()
+                )
+            })
     }
 
     /// `count` elements of `size` bytes each, `stride` apart, from `offset` in the view's bytes.
@@ -103,9 +104,9 @@ impl AccessorReader<'_> {
             .and_then(|s| s.checked_add(size))
             .and_then(|s| s.checked_add(offset));
         match end {
-            Some(end) if end <= bytes.len() => {
-                Ok((0..count).map(|i| &bytes[offset + i * stride..][..size]).collect())
-            }
+            Some(end) if end <= bytes.len() => Ok((0..count)
+                .map(|i| &bytes[offset + i * stride..][..size])
+                .collect()),
             _ => Err(format!(
                 "{what} ({count} elements of {size} bytes, stride {stride}, from offset {offset}) \
                  does not fit its buffer view of {} bytes",

@@ -15,7 +15,10 @@ fn word(bytes: &[u8], at: usize) -> u32 {
 /// inside it with 4-byte aligned lengths, a JSON chunk first, at most one BIN chunk right after.
 fn check_glb(bytes: &[u8]) -> Result<(), String> {
     if bytes.len() < 12 {
-        return Err(format!("GLB header needs 12 bytes, the file has {}", bytes.len()));
+        return Err(format!(
+            "GLB header needs 12 bytes, the file has {}",
+            bytes.len()
+        ));
     }
     let version = word(bytes, 4);
     if version != 2 {
@@ -23,20 +26,29 @@ fn check_glb(bytes: &[u8]) -> Result<(), String> {
     }
     let length = word(bytes, 8) as usize;
     if length != bytes.len() {
-        return Err(format!("GLB header says {length} bytes, the file has {}", bytes.len()));
+        return Err(format!(
+            "GLB header says {length} bytes, the file has {}",
+            bytes.len()
+        ));
     }
     let mut at = 12;
     let mut index = 0;
     while at < length {
         if length - at < 8 {
-            return Err(format!("GLB chunk {index} header is cut short at byte {at}"));
+            return Err(format!(
+                "GLB chunk {index} header is cut short at byte {at}"
+            ));
         }
         let (chunk_length, chunk_type) = (word(bytes, at) as usize, word(bytes, at + 4));
         if chunk_length % 4 != 0 {
-            return Err(format!("GLB chunk {index} length {chunk_length} is not a multiple of 4"));
+            return Err(format!(
+                "GLB chunk {index} length {chunk_length} is not a multiple of 4"
+            ));
         }
         if chunk_length > length - at - 8 {
-            return Err(format!("GLB chunk {index} ({chunk_length} bytes) runs past the end of the file"));
+            return Err(format!(
+                "GLB chunk {index} ({chunk_length} bytes) runs past the end of the file"
+            ));
         }
         match (index, chunk_type) {
             (0, CHUNK_JSON) | (1, CHUNK_BIN) => {}
@@ -61,9 +73,11 @@ fn check_attribute_references(root: &gltf::json::Root) -> Result<(), String> {
     let count = root.accessors.len();
     for (m, mesh) in root.meshes.iter().enumerate() {
         for (p, primitive) in mesh.primitives.iter().enumerate() {
-            let targets = primitive.targets.iter().flatten().flat_map(|t| {
-                [t.positions, t.normals, t.tangents].into_iter().flatten()
-            });
+            let targets = primitive
+                .targets
+                .iter()
+                .flatten()
+                .flat_map(|t| [t.positions, t.normals, t.tangents].into_iter().flatten());
             let attributes = primitive.attributes.values().copied();
             for index in attributes.chain(primitive.indices).chain(targets) {
                 if index.value() >= count {
@@ -121,11 +135,30 @@ mod tests {
     #[test]
     fn broken_containers_are_refused() {
         let json = [b' '; 8];
-        assert!(check_glb(b"glTF\x02\0\0\0").unwrap_err().contains("12 bytes"));
-        assert!(check_glb(&glb(&[(CHUNK_JSON, &json)], -4)).unwrap_err().contains("header says"));
-        assert!(check_glb(&glb(&[(CHUNK_JSON, &json[..6])], 0)).unwrap_err().contains("multiple of 4"));
-        assert!(check_glb(&glb(&[(CHUNK_BIN, &json)], 0)).unwrap_err().contains("first chunk"));
-        let twice = glb(&[(CHUNK_JSON, &json), (CHUNK_BIN, &json), (CHUNK_BIN, &json)], 0);
+        assert!(
+            check_glb(b"glTF\x02\0\0\0")
+                .unwrap_err()
+                .contains("12 bytes")
+        );
+        assert!(
+            check_glb(&glb(&[(CHUNK_JSON, &json)], -4))
+                .unwrap_err()
+                .contains("header says")
+        );
+        assert!(
+            check_glb(&glb(&[(CHUNK_JSON, &json[..6])], 0))
+                .unwrap_err()
+                .contains("multiple of 4")
+        );
+        assert!(
+            check_glb(&glb(&[(CHUNK_BIN, &json)], 0))
+                .unwrap_err()
+                .contains("first chunk")
+        );
+        let twice = glb(
+            &[(CHUNK_JSON, &json), (CHUNK_BIN, &json), (CHUNK_BIN, &json)],
+            0,
+        );
         assert!(check_glb(&twice).unwrap_err().contains("repeats"));
         let mut short_header = glb(&[(CHUNK_JSON, &json)], 0);
         short_header[8..12].copy_from_slice(&4u32.to_le_bytes());

@@ -22,12 +22,16 @@ pub(crate) fn instance_transforms(
         match ext["attributes"].get(name) {
             None => Ok(None),
             Some(v) => {
-                let index = v.as_u64().ok_or_else(|| format!("EXT_mesh_gpu_instancing {name} is not an index"))?;
+                let index = v
+                    .as_u64()
+                    .ok_or_else(|| format!("EXT_mesh_gpu_instancing {name} is not an index"))?;
                 document
                     .accessors()
                     .nth(index as usize)
                     .map(Some)
-                    .ok_or_else(|| format!("EXT_mesh_gpu_instancing {name} refers to missing accessor {index}"))
+                    .ok_or_else(|| {
+                        format!("EXT_mesh_gpu_instancing {name} refers to missing accessor {index}")
+                    })
             }
         }
     };
@@ -43,21 +47,31 @@ pub(crate) fn instance_transforms(
         Some(a) => Some(reader.read_f32::<3>(&a, Formats::Float)?),
         None => None,
     };
-    let lengths: Vec<usize> = [translations.as_ref().map(Vec::len), rotations.as_ref().map(Vec::len), scales.as_ref().map(Vec::len)]
-        .into_iter()
-        .flatten()
-        .collect();
+    let lengths: Vec<usize> = [
+        translations.as_ref().map(Vec::len),
+        rotations.as_ref().map(Vec::len),
+        scales.as_ref().map(Vec::len),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
     let Some(&count) = lengths.first() else {
         return Err("EXT_mesh_gpu_instancing has no attributes".into());
     };
     if lengths.iter().any(|&l| l != count) {
-        return Err(format!("EXT_mesh_gpu_instancing attributes have different counts {lengths:?}"));
+        return Err(format!(
+            "EXT_mesh_gpu_instancing attributes have different counts {lengths:?}"
+        ));
     }
     let mut transforms = Vec::with_capacity(count);
     let mut dropped = 0;
     for k in 0..count {
-        let translation = translations.as_ref().map_or(Vec3::ZERO, |t| Vec3::from(t[k]));
-        let rotation = rotations.as_ref().map_or(Quat::IDENTITY, |r| Quat::from_array(r[k]));
+        let translation = translations
+            .as_ref()
+            .map_or(Vec3::ZERO, |t| Vec3::from(t[k]));
+        let rotation = rotations
+            .as_ref()
+            .map_or(Quat::IDENTITY, |r| Quat::from_array(r[k]));
         let scale = scales.as_ref().map_or(Vec3::ONE, |s| Vec3::from(s[k]));
         let usable = translation.is_finite()
             && rotation.is_finite()
@@ -65,7 +79,11 @@ pub(crate) fn instance_transforms(
             && scale.is_finite()
             && scale.abs().min_element() >= crate::gltf::nodes::MIN_SCALE;
         if usable {
-            transforms.push(Transform { translation, rotation: rotation.normalize(), scale });
+            transforms.push(Transform {
+                translation,
+                rotation: rotation.normalize(),
+                scale,
+            });
         } else {
             dropped += 1;
         }

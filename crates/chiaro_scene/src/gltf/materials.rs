@@ -64,12 +64,28 @@ fn transform_from_json(value: &serde_json::Value) -> (Vec2, f32, Vec2, Option<u3
         value
             .get(key)
             .and_then(|v| v.as_array())
-            .and_then(|a| Some(Vec2::new(a.first()?.as_f64()? as f32, a.get(1)?.as_f64()? as f32)))
+            .and_then(|a| {
+                Some(Vec2::new(
+                    a.first()?.as_f64()? as f32,
+                    a.get(1)?.as_f64()? as f32,
+                ))
+            })
             .unwrap_or(default)
     };
-    let rotation = value.get("rotation").and_then(|v| v.as_f64()).unwrap_or(0.0) as f32;
-    let tex_coord = value.get("texCoord").and_then(|v| v.as_u64()).map(|v| v as u32);
-    (pair("offset", Vec2::ZERO), rotation, pair("scale", Vec2::ONE), tex_coord)
+    let rotation = value
+        .get("rotation")
+        .and_then(|v| v.as_f64())
+        .unwrap_or(0.0) as f32;
+    let tex_coord = value
+        .get("texCoord")
+        .and_then(|v| v.as_u64())
+        .map(|v| v as u32);
+    (
+        pair("offset", Vec2::ZERO),
+        rotation,
+        pair("scale", Vec2::ONE),
+        tex_coord,
+    )
 }
 
 /// KHR_texture_transform's matrix: translation * rotation * scale, with its rotation convention
@@ -112,7 +128,12 @@ impl<'a> MaterialImporter<'a> {
             texture: info.texture(),
             tex_coord: info.tex_coord(),
             transform: info.texture_transform().map(|t| {
-                (Vec2::from(t.offset()), t.rotation(), Vec2::from(t.scale()), t.tex_coord())
+                (
+                    Vec2::from(t.offset()),
+                    t.rotation(),
+                    Vec2::from(t.scale()),
+                    t.tex_coord(),
+                )
             }),
         };
         let base_slot = pbr.base_color_texture().map(info_slot);
@@ -123,7 +144,9 @@ impl<'a> MaterialImporter<'a> {
         let normal_slot = normal.map(|n| Slot {
             texture: n.texture(),
             tex_coord: n.tex_coord(),
-            transform: n.extension_value("KHR_texture_transform").map(transform_from_json),
+            transform: n
+                .extension_value("KHR_texture_transform")
+                .map(transform_from_json),
         });
 
         let mut material = Material {
@@ -146,10 +169,12 @@ impl<'a> MaterialImporter<'a> {
             absorption: 0.0,
             ..Material::default()
         };
-        material.base_color_texture = base_slot.and_then(|s| self.slot(&element, "base colour", s, ColorSpace::Srgb));
+        material.base_color_texture =
+            base_slot.and_then(|s| self.slot(&element, "base colour", s, ColorSpace::Srgb));
         material.metallic_roughness_texture =
             mr_slot.and_then(|s| self.slot(&element, "metallic-roughness", s, ColorSpace::Linear));
-        material.normal_texture = normal_slot.and_then(|s| self.slot(&element, "normal", s, ColorSpace::Linear));
+        material.normal_texture =
+            normal_slot.and_then(|s| self.slot(&element, "normal", s, ColorSpace::Linear));
         material.emissive_texture =
             emissive_slot.and_then(|s| self.slot(&element, "emissive", s, ColorSpace::Srgb));
         material.absorption = self.absorption(&element, m);
@@ -164,7 +189,9 @@ impl<'a> MaterialImporter<'a> {
     fn absorption(&mut self, element: &str, m: &gltf::Material) -> f32 {
         let Some(raw) = m.extras() else { return 0.0 };
         let value: serde_json::Value = serde_json::from_str(raw.get()).unwrap_or_default();
-        let Some(field) = value.get("absorption") else { return 0.0 };
+        let Some(field) = value.get("absorption") else {
+            return 0.0;
+        };
         match field.as_f64() {
             Some(a) if (0.0..=1.0).contains(&a) => a as f32,
             Some(a) if a.is_finite() => {
@@ -172,7 +199,10 @@ impl<'a> MaterialImporter<'a> {
                 a.clamp(0.0, 1.0) as f32
             }
             _ => {
-                self.repair(element.into(), format!("absorption {field} is not a number: 0 used"));
+                self.repair(
+                    element.into(),
+                    format!("absorption {field} is not a number: 0 used"),
+                );
                 0.0
             }
         }
@@ -199,7 +229,10 @@ impl<'a> MaterialImporter<'a> {
             unit(&format!("emissive component {k}"), c, 0.0);
         }
         if !m.emissive_strength.is_finite() || m.emissive_strength < 0.0 {
-            fixes.push(format!("emissive strength {} replaced by 1", m.emissive_strength));
+            fixes.push(format!(
+                "emissive strength {} replaced by 1",
+                m.emissive_strength
+            ));
             m.emissive_strength = 1.0;
         }
         if !m.normal_scale.is_finite() {
@@ -221,8 +254,15 @@ impl<'a> MaterialImporter<'a> {
         }
     }
 
-    fn slot(&mut self, element: &str, slot_name: &str, slot: Slot, space: ColorSpace) -> Option<TextureRef> {
-        let (offset, rotation, scale, override_coord) = slot.transform.unwrap_or((Vec2::ZERO, 0.0, Vec2::ONE, None));
+    fn slot(
+        &mut self,
+        element: &str,
+        slot_name: &str,
+        slot: Slot,
+        space: ColorSpace,
+    ) -> Option<TextureRef> {
+        let (offset, rotation, scale, override_coord) =
+            slot.transform.unwrap_or((Vec2::ZERO, 0.0, Vec2::ONE, None));
         let mut uv_set = override_coord.unwrap_or(slot.tex_coord);
         if uv_set > 1 {
             self.repair(
@@ -233,18 +273,31 @@ impl<'a> MaterialImporter<'a> {
         }
         let transform = texture_transform_matrix(offset, rotation, scale);
         if !transform.is_finite() {
-            self.repair(element.into(), format!("{slot_name} texture transform is not finite: ignored"));
+            self.repair(
+                element.into(),
+                format!("{slot_name} texture transform is not finite: ignored"),
+            );
         }
         let texture = self.texture(element, slot_name, &slot.texture, space)?;
         Some(TextureRef {
             texture,
             uv_set,
-            transform: if transform.is_finite() { transform } else { Affine2::IDENTITY },
+            transform: if transform.is_finite() {
+                transform
+            } else {
+                Affine2::IDENTITY
+            },
             sampler: sampler(&slot.texture.sampler()),
         })
     }
 
-    fn texture(&mut self, element: &str, slot_name: &str, texture: &gltf::Texture, space: ColorSpace) -> Option<TextureId> {
+    fn texture(
+        &mut self,
+        element: &str,
+        slot_name: &str,
+        texture: &gltf::Texture,
+        space: ColorSpace,
+    ) -> Option<TextureId> {
         let image = texture.source();
         let key = (image.index(), space);
         if let Some(done) = self.decoded.get(&key) {
@@ -265,7 +318,10 @@ impl<'a> MaterialImporter<'a> {
             Err(why) => {
                 self.repair(
                     element.into(),
-                    format!("{slot_name} texture (image {}) {why}: the factor alone is used", image.index()),
+                    format!(
+                        "{slot_name} texture (image {}) {why}: the factor alone is used",
+                        image.index()
+                    ),
                 );
                 None
             }
@@ -278,18 +334,29 @@ impl<'a> MaterialImporter<'a> {
     fn decode(&self, image: &gltf::Image) -> Result<(String, u32, u32, Vec<u8>), String> {
         let (name, bytes) = match image.source() {
             gltf::image::Source::View { view, .. } => {
-                let buffer = self.buffers.get(view.buffer().index()).ok_or("refers to a missing buffer")?;
+                let buffer = self
+                    .buffers
+                    .get(view.buffer().index())
+                    .ok_or("refers to a missing buffer")?;
                 let bytes = view
                     .offset()
                     .checked_add(view.length())
                     .and_then(|end| buffer.get(view.offset()..end))
-                    .ok_or_else(|| format!("buffer view {} does not fit its buffer", view.index()))?;
-                (format!("image {} (buffer view {})", image.index(), view.index()), bytes.to_vec())
+                    .ok_or_else(|| {
+                        format!("buffer view {} does not fit its buffer", view.index())
+                    })?;
+                (
+                    format!("image {} (buffer view {})", image.index(), view.index()),
+                    bytes.to_vec(),
+                )
             }
             gltf::image::Source::Uri { uri, .. } => match resolve_uri(self.base, uri)? {
-                UriSource::Embedded(bytes) => (format!("image {} (data URI)", image.index()), bytes),
+                UriSource::Embedded(bytes) => {
+                    (format!("image {} (data URI)", image.index()), bytes)
+                }
                 UriSource::File(path) => {
-                    let bytes = read_file(&path).map_err(|e| format!("file {}: {e}", path.display()))?;
+                    let bytes =
+                        read_file(&path).map_err(|e| format!("file {}: {e}", path.display()))?;
                     (path.display().to_string(), bytes)
                 }
             },
@@ -317,7 +384,8 @@ mod tests {
     #[test]
     fn texture_transform_follows_the_extension_spec() {
         // The extension's matrix: a +90 degree rotation takes (1, 0) to (0, -1), then the offset.
-        let m = texture_transform_matrix(Vec2::new(0.5, 0.0), std::f32::consts::FRAC_PI_2, Vec2::ONE);
+        let m =
+            texture_transform_matrix(Vec2::new(0.5, 0.0), std::f32::consts::FRAC_PI_2, Vec2::ONE);
         let uv = m.transform_point2(Vec2::new(1.0, 0.0));
         assert!(uv.abs_diff_eq(Vec2::new(0.5, -1.0), 1e-6), "{uv}");
         let s = texture_transform_matrix(Vec2::ZERO, 0.0, Vec2::new(2.0, 3.0));

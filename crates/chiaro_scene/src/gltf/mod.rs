@@ -75,12 +75,19 @@ pub fn load_gltf(path: &Path) -> Result<SceneBuilder, SceneError> {
 
 /// Every buffer view lies inside its buffer, with a legal stride (a multiple of 4 in 4..=252,
 /// none on index data), whether or not the scene uses it.
-fn check_buffer_views(document: &gltf::Document, buffers: &[Vec<u8>]) -> Result<(), (String, Fault)> {
+fn check_buffer_views(
+    document: &gltf::Document,
+    buffers: &[Vec<u8>],
+) -> Result<(), (String, Fault)> {
     for view in document.views() {
         let element = nodes::element("buffer view", view.index(), view.name());
         let fault = |why: String| Err((element.clone(), Fault::Accessor(why)));
         let buffer_len = buffers.get(view.buffer().index()).map_or(0, Vec::len);
-        if view.offset().checked_add(view.length()).is_none_or(|end| end > buffer_len) {
+        if view
+            .offset()
+            .checked_add(view.length())
+            .is_none_or(|end| end > buffer_len)
+        {
             return fault(format!(
                 "offset {} + length {} does not fit buffer {} of {buffer_len} bytes",
                 view.offset(),
@@ -90,7 +97,9 @@ fn check_buffer_views(document: &gltf::Document, buffers: &[Vec<u8>]) -> Result<
         }
         if let Some(stride) = view.stride() {
             if stride % 4 != 0 || !(4..=252).contains(&stride) {
-                return fault(format!("byte stride {stride} is not a multiple of 4 in 4..=252"));
+                return fault(format!(
+                    "byte stride {stride} is not a multiple of 4 in 4..=252"
+                ));
             }
             if view.target() == Some(gltf::buffer::Target::ElementArrayBuffer) {
                 return fault("index data must not have a byte stride".into());
@@ -106,7 +115,10 @@ fn check_cameras(document: &gltf::Document) -> Result<(), (String, Fault)> {
         let element = nodes::element("camera", camera.index(), camera.name());
         let raw = &document.as_json().cameras[camera.index()];
         if raw.perspective.is_some() && raw.orthographic.is_some() {
-            return Err((element, Fault::Camera("has both perspective and orthographic parameters".into())));
+            return Err((
+                element,
+                Fault::Camera("has both perspective and orthographic parameters".into()),
+            ));
         }
         nodes::camera(&camera).map_err(|fault| (element, fault))?;
     }

@@ -40,7 +40,10 @@ fn parents(document: &gltf::Document) -> Result<Vec<Option<usize>>, (String, Str
             if let Some(p) = parent[c] {
                 return Err((
                     element("node", c, child.name()),
-                    format!("is a child of both node {p} and node {}: the node graph is not a tree", node.index()),
+                    format!(
+                        "is a child of both node {p} and node {}: the node graph is not a tree",
+                        node.index()
+                    ),
                 ));
             }
             parent[c] = Some(node.index());
@@ -54,7 +57,12 @@ fn parents(document: &gltf::Document) -> Result<Vec<Option<usize>>, (String, Str
         while let Some(n) = at {
             match state[n] {
                 2 => break,
-                1 => return Err((format!("node {n}"), "is its own ancestor: the node graph has a cycle".into())),
+                1 => {
+                    return Err((
+                        format!("node {n}"),
+                        "is its own ancestor: the node graph has a cycle".into(),
+                    ));
+                }
                 _ => {
                     state[n] = 1;
                     walk.push(n);
@@ -72,7 +80,10 @@ fn parents(document: &gltf::Document) -> Result<Vec<Option<usize>>, (String, Str
 /// A node's local transform: `Ok(None)` when it is singular (zero scale), an error when it is
 /// not finite. A non-unit rotation is normalised; a matrix with shear is approximated by its
 /// scale-rotation-translation part, with a repair line.
-fn node_transform(node: &gltf::Node, repairs: &mut Vec<String>) -> Result<Option<Transform>, Fault> {
+fn node_transform(
+    node: &gltf::Node,
+    repairs: &mut Vec<String>,
+) -> Result<Option<Transform>, Fault> {
     let (translation, rotation, scale) = match node.transform() {
         gltf::scene::Transform::Matrix { matrix } => {
             let m = Mat4::from_cols_array_2d(&matrix);
@@ -84,13 +95,28 @@ fn node_transform(node: &gltf::Node, repairs: &mut Vec<String>) -> Result<Option
             }
             let (s, r, t) = m.to_scale_rotation_translation();
             let rebuilt = Mat4::from_scale_rotation_translation(s, r, t);
-            if !rebuilt.abs_diff_eq(m, 1e-4 * m.abs().to_cols_array().iter().fold(1.0f32, |a, &b| a.max(b))) {
+            if !rebuilt.abs_diff_eq(
+                m,
+                1e-4 * m
+                    .abs()
+                    .to_cols_array()
+                    .iter()
+                    .fold(1.0f32, |a, &b| a.max(b)),
+            ) {
                 repairs.push("matrix has shear or projection: approximated by scale, rotation and translation".into());
             }
             (t, r, s)
         }
-        gltf::scene::Transform::Decomposed { translation, rotation, scale } => {
-            let (t, q, s) = (Vec3::from(translation), Quat::from_array(rotation), Vec3::from(scale));
+        gltf::scene::Transform::Decomposed {
+            translation,
+            rotation,
+            scale,
+        } => {
+            let (t, q, s) = (
+                Vec3::from(translation),
+                Quat::from_array(rotation),
+                Vec3::from(scale),
+            );
             if !t.is_finite() || !q.is_finite() || !s.is_finite() {
                 return Err(Fault::NonFiniteTransform(format!(
                     "translation {translation:?}, rotation {rotation:?}, scale {scale:?}"
@@ -98,11 +124,15 @@ fn node_transform(node: &gltf::Node, repairs: &mut Vec<String>) -> Result<Option
             }
             let len = q.length();
             let q = if len < 1e-6 {
-                repairs.push(format!("rotation {rotation:?} has no direction: identity used"));
+                repairs.push(format!(
+                    "rotation {rotation:?} has no direction: identity used"
+                ));
                 Quat::IDENTITY
             } else {
                 if (len - 1.0).abs() > 1e-3 {
-                    repairs.push(format!("rotation {rotation:?} is not unit length: normalised"));
+                    repairs.push(format!(
+                        "rotation {rotation:?} is not unit length: normalised"
+                    ));
                 }
                 q / len
             };
@@ -112,13 +142,18 @@ fn node_transform(node: &gltf::Node, repairs: &mut Vec<String>) -> Result<Option
     if scale.abs().min_element() < MIN_SCALE {
         return Ok(None);
     }
-    Ok(Some(Transform { translation, rotation, scale }))
+    Ok(Some(Transform {
+        translation,
+        rotation,
+        scale,
+    }))
 }
 
 fn light(l: &gltf::khr_lights_punctual::Light, repairs: &mut Vec<String>) -> Result<Light, Fault> {
     let color = Vec3::from(l.color());
     let intensity = l.intensity();
-    if !color.is_finite() || color.min_element() < 0.0 || !intensity.is_finite() || intensity < 0.0 {
+    if !color.is_finite() || color.min_element() < 0.0 || !intensity.is_finite() || intensity < 0.0
+    {
         return Err(Fault::Light(format!(
             "colour {color} and intensity {intensity} must be finite and non-negative"
         )));
@@ -134,20 +169,39 @@ fn light(l: &gltf::khr_lights_punctual::Light, repairs: &mut Vec<String>) -> Res
     let kind = match l.kind() {
         gltf::khr_lights_punctual::Kind::Point => LightKind::Point,
         gltf::khr_lights_punctual::Kind::Directional => LightKind::Directional,
-        gltf::khr_lights_punctual::Kind::Spot { inner_cone_angle, outer_cone_angle } => {
+        gltf::khr_lights_punctual::Kind::Spot {
+            inner_cone_angle,
+            outer_cone_angle,
+        } => {
             let half_pi = std::f32::consts::FRAC_PI_2;
-            let outer = if outer_cone_angle.is_finite() { outer_cone_angle.clamp(1e-4, half_pi) } else { half_pi };
-            let inner = if inner_cone_angle.is_finite() { inner_cone_angle.clamp(0.0, outer * 0.999) } else { 0.0 };
+            let outer = if outer_cone_angle.is_finite() {
+                outer_cone_angle.clamp(1e-4, half_pi)
+            } else {
+                half_pi
+            };
+            let inner = if inner_cone_angle.is_finite() {
+                inner_cone_angle.clamp(0.0, outer * 0.999)
+            } else {
+                0.0
+            };
             if inner != inner_cone_angle || outer != outer_cone_angle {
                 repairs.push(format!(
                     "spot cone ({inner_cone_angle}, {outer_cone_angle}) outside 0 <= inner < outer <= pi/2: \
                      ({inner}, {outer}) used"
                 ));
             }
-            LightKind::Spot { inner_cone_angle: inner, outer_cone_angle: outer }
+            LightKind::Spot {
+                inner_cone_angle: inner,
+                outer_cone_angle: outer,
+            }
         }
     };
-    Ok(Light { kind, color, intensity, range })
+    Ok(Light {
+        kind,
+        color,
+        intensity,
+        range,
+    })
 }
 
 pub(crate) fn camera(c: &gltf::Camera) -> Result<Camera, Fault> {
@@ -162,7 +216,7 @@ pub(crate) fn camera(c: &gltf::Camera) -> Result<Camera, Fault> {
                 return bad(format!("znear {znear} is not positive"));
             }
             if let Some(zfar) = zfar
-                && !(zfar > znear)
+                && zfar.partial_cmp(&znear) != Some(std::cmp::Ordering::Greater)
             {
                 return bad(format!("zfar {zfar} is not greater than znear {znear}"));
             }
@@ -171,17 +225,31 @@ pub(crate) fn camera(c: &gltf::Camera) -> Result<Camera, Fault> {
             {
                 return bad(format!("aspect ratio {a} is not positive"));
             }
-            Projection::Perspective { yfov, aspect_ratio: aspect, znear, zfar: zfar.filter(|z| z.is_finite()) }
+            Projection::Perspective {
+                yfov,
+                aspect_ratio: aspect,
+                znear,
+                zfar: zfar.filter(|z| z.is_finite()),
+            }
         }
         gltf::camera::Projection::Orthographic(o) => {
             let (xmag, ymag, znear, zfar) = (o.xmag(), o.ymag(), o.znear(), o.zfar());
             if !(xmag.is_finite() && ymag.is_finite() && xmag != 0.0 && ymag != 0.0) {
-                return bad(format!("xmag {xmag} and ymag {ymag} must be finite and non-zero"));
+                return bad(format!(
+                    "xmag {xmag} and ymag {ymag} must be finite and non-zero"
+                ));
             }
             if !(znear.is_finite() && znear >= 0.0 && zfar.is_finite() && zfar > znear) {
-                return bad(format!("znear {znear} and zfar {zfar} must satisfy 0 <= znear < zfar"));
+                return bad(format!(
+                    "znear {znear} and zfar {zfar} must satisfy 0 <= znear < zfar"
+                ));
             }
-            Projection::Orthographic { xmag: xmag.abs(), ymag: ymag.abs(), znear, zfar }
+            Projection::Orthographic {
+                xmag: xmag.abs(),
+                ymag: ymag.abs(),
+                znear,
+                zfar,
+            }
         }
     };
     Ok(Camera { projection })
@@ -205,7 +273,14 @@ impl<'a> NodeImporter<'a> {
         builder: &'a mut SceneBuilder,
         materials: &'a [Material],
     ) -> Self {
-        Self { document, reader, builder, materials, meshes: HashMap::new(), default_material: None }
+        Self {
+            document,
+            reader,
+            builder,
+            materials,
+            meshes: HashMap::new(),
+            default_material: None,
+        }
     }
 
     fn error(&self, element: String, fault: Fault) -> SceneError {
@@ -214,29 +289,43 @@ impl<'a> NodeImporter<'a> {
 
     /// Imports the default scene, or the first, or (with no scenes) every root node.
     pub fn import(&mut self) -> Result<(), SceneError> {
-        let parent = parents(self.document).map_err(|(e, why)| self.error(e, Fault::Hierarchy(why)))?;
-        let scene = self.document.default_scene().or_else(|| self.document.scenes().next());
+        let parent =
+            parents(self.document).map_err(|(e, why)| self.error(e, Fault::Hierarchy(why)))?;
+        let scene = self
+            .document
+            .default_scene()
+            .or_else(|| self.document.scenes().next());
         let roots: Vec<usize> = match &scene {
             Some(scene) => scene.nodes().map(|n| n.index()).collect(),
             None => (0..parent.len()).filter(|&n| parent[n].is_none()).collect(),
         };
         let mut seen = vec![false; parent.len()];
         for &root in &roots {
-            let scene_name = scene.as_ref().map_or_else(String::new, |s| element("scene", s.index(), s.name()));
+            let scene_name = scene
+                .as_ref()
+                .map_or_else(String::new, |s| element("scene", s.index(), s.name()));
             if let Some(p) = parent[root] {
                 return Err(self.error(
                     scene_name,
-                    Fault::Hierarchy(format!("lists node {root} as a root, but it is a child of node {p}")),
+                    Fault::Hierarchy(format!(
+                        "lists node {root} as a root, but it is a child of node {p}"
+                    )),
                 ));
             }
             if std::mem::replace(&mut seen[root], true) {
-                return Err(self.error(scene_name, Fault::Hierarchy(format!("lists node {root} twice"))));
+                return Err(self.error(
+                    scene_name,
+                    Fault::Hierarchy(format!("lists node {root} twice")),
+                ));
             }
         }
         let nodes: Vec<gltf::Node> = self.document.nodes().collect();
-        let mut stack: Vec<(usize, Option<NodeIndex>)> = roots.into_iter().rev().map(|r| (r, None)).collect();
+        let mut stack: Vec<(usize, Option<NodeIndex>)> =
+            roots.into_iter().rev().map(|r| (r, None)).collect();
         while let Some((index, parent_node)) = stack.pop() {
-            let Some(node) = nodes.get(index) else { continue };
+            let Some(node) = nodes.get(index) else {
+                continue;
+            };
             if let Some(added) = self.node(node, parent_node)? {
                 let children: Vec<usize> = node.children().map(|c| c.index()).collect();
                 stack.extend(children.into_iter().rev().map(|c| (c, Some(added))));
@@ -246,10 +335,15 @@ impl<'a> NodeImporter<'a> {
     }
 
     /// Adds one node; `None` when it is singular and its subtree is skipped.
-    fn node(&mut self, node: &gltf::Node, parent: Option<NodeIndex>) -> Result<Option<NodeIndex>, SceneError> {
+    fn node(
+        &mut self,
+        node: &gltf::Node,
+        parent: Option<NodeIndex>,
+    ) -> Result<Option<NodeIndex>, SceneError> {
         let name = element("node", node.index(), node.name());
         let mut repairs = Vec::new();
-        let transform = node_transform(node, &mut repairs).map_err(|f| self.error(name.clone(), f))?;
+        let transform =
+            node_transform(node, &mut repairs).map_err(|f| self.error(name.clone(), f))?;
         let Some(transform) = transform else {
             let skipped = count_subtree(node);
             self.builder.repair(
@@ -260,13 +354,19 @@ impl<'a> NodeImporter<'a> {
         };
         let light = match node.light() {
             Some(l) => Some(light(&l, &mut repairs).map_err(|f| {
-                self.error(format!("{name}, {}", element("light", l.index(), l.name())), f)
+                self.error(
+                    format!("{name}, {}", element("light", l.index(), l.name())),
+                    f,
+                )
             })?),
             None => None,
         };
         let camera = match node.camera() {
             Some(c) => Some(camera(&c).map_err(|f| {
-                self.error(format!("{name}, {}", element("camera", c.index(), c.name())), f)
+                self.error(
+                    format!("{name}, {}", element("camera", c.index(), c.name())),
+                    f,
+                )
             })?),
             None => None,
         };
@@ -291,7 +391,12 @@ impl<'a> NodeImporter<'a> {
         });
         if let Some((transforms, dropped)) = gpu_instances {
             if dropped > 0 {
-                self.builder.repair(name.clone(), format!("dropped {dropped} GPU instances with a non-finite or zero-scale transform"));
+                self.builder.repair(
+                    name.clone(),
+                    format!(
+                        "dropped {dropped} GPU instances with a non-finite or zero-scale transform"
+                    ),
+                );
             }
             for (k, transform) in transforms.into_iter().enumerate() {
                 let holder = self.builder.add_node(Node {
@@ -311,7 +416,12 @@ impl<'a> NodeImporter<'a> {
 
     /// With more than one primitive, each becomes a child of `holder` (one is carried by the
     /// holder itself).
-    fn add_primitive_children(&mut self, name: &str, holder: NodeIndex, instances: &[MeshInstance]) {
+    fn add_primitive_children(
+        &mut self,
+        name: &str,
+        holder: NodeIndex,
+        instances: &[MeshInstance],
+    ) {
         if instances.len() > 1 {
             for (k, instance) in instances.iter().enumerate() {
                 self.builder.add_node(Node {
@@ -360,7 +470,11 @@ impl<'a> NodeImporter<'a> {
         primitive: &gltf::Primitive,
         material: MaterialId,
     ) -> Result<Option<MeshId>, SceneError> {
-        let element = format!("{} primitive {}", element("mesh", mesh.index(), mesh.name()), primitive.index());
+        let element = format!(
+            "{} primitive {}",
+            element("mesh", mesh.index(), mesh.name()),
+            primitive.index()
+        );
         let tangent_uv_set = self
             .materials
             .get(material.0 as usize)

@@ -44,8 +44,13 @@ pub(crate) fn convert_primitive(
     tangent_uv_set: Option<usize>,
 ) -> Result<Converted, String> {
     let mode = primitive.mode();
-    if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
-        return Ok(Converted::Skipped(format!("{mode:?} primitives are not surfaces")));
+    if !matches!(
+        mode,
+        Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
+    ) {
+        return Ok(Converted::Skipped(format!(
+            "{mode:?} primitives are not surfaces"
+        )));
     }
     let Some(positions) = primitive.get(&Semantic::Positions) else {
         return Ok(Converted::Skipped("it has no POSITION attribute".into()));
@@ -56,17 +61,35 @@ pub(crate) fn convert_primitive(
         .map(Vec3::from)
         .collect();
     let normals = match primitive.get(&Semantic::Normals) {
-        Some(a) => Some(reader.read_f32::<3>(&a, Formats::Float)?.into_iter().map(Vec3::from).collect()),
+        Some(a) => Some(
+            reader
+                .read_f32::<3>(&a, Formats::Float)?
+                .into_iter()
+                .map(Vec3::from)
+                .collect(),
+        ),
         None => None,
     };
     let tangents = match primitive.get(&Semantic::Tangents) {
-        Some(a) => Some(reader.read_f32::<4>(&a, Formats::Float)?.into_iter().map(Vec4::from).collect()),
+        Some(a) => Some(
+            reader
+                .read_f32::<4>(&a, Formats::Float)?
+                .into_iter()
+                .map(Vec4::from)
+                .collect(),
+        ),
         None => None,
     };
     let mut uvs: [Option<Vec<Vec2>>; 2] = [None, None];
     for (set, uv) in uvs.iter_mut().enumerate() {
         if let Some(a) = primitive.get(&Semantic::TexCoords(set as u32)) {
-            *uv = Some(reader.read_f32::<2>(&a, Formats::FloatOrUnorm)?.into_iter().map(Vec2::from).collect());
+            *uv = Some(
+                reader
+                    .read_f32::<2>(&a, Formats::FloatOrUnorm)?
+                    .into_iter()
+                    .map(Vec2::from)
+                    .collect(),
+            );
         }
     }
     let indices = match primitive.indices() {
@@ -94,7 +117,10 @@ mod tests {
 
     #[test]
     fn strips_alternate_winding() {
-        assert_eq!(strip_to_list(&[0, 1, 2, 3, 4]), vec![0, 1, 2, 2, 1, 3, 2, 3, 4]);
+        assert_eq!(
+            strip_to_list(&[0, 1, 2, 3, 4]),
+            vec![0, 1, 2, 2, 1, 3, 2, 3, 4]
+        );
         assert!(strip_to_list(&[0, 1]).is_empty());
     }
 

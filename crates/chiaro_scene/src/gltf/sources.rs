@@ -83,13 +83,15 @@ pub(crate) fn load_buffers(
         };
         let mut data = match buffer.source() {
             gltf::buffer::Source::Bin => blob.take().ok_or_else(|| {
-                (element.clone(), Fault::Gltf("refers to a GLB binary chunk the file does not have".into()))
+                (
+                    element.clone(),
+                    Fault::Gltf("refers to a GLB binary chunk the file does not have".into()),
+                )
             })?,
             gltf::buffer::Source::Uri(uri) => match resolve_uri(base, uri) {
                 Ok(UriSource::Embedded(bytes)) => bytes,
-                Ok(UriSource::File(path)) => read_file(&path).map_err(|fault| {
-                    (format!("{element} file {}", path.display()), fault)
-                })?,
+                Ok(UriSource::File(path)) => read_file(&path)
+                    .map_err(|fault| (format!("{element} file {}", path.display()), fault))?,
                 Err(message) => return Err((element, Fault::Gltf(message))),
             },
         };
@@ -132,7 +134,9 @@ mod tests {
 
     #[test]
     fn network_uris_are_refused() {
-        let err = resolve_uri(Path::new("."), "https://example.com/a.bin").err().unwrap();
+        let err = resolve_uri(Path::new("."), "https://example.com/a.bin")
+            .err()
+            .unwrap();
         assert!(err.contains("'https'"), "{err}");
     }
 
