@@ -1,7 +1,8 @@
 //! Parsing a glTF or GLB file into a validated document. The GLB container is checked here
 //! (header, chunk bounds and alignment, chunk order) and mesh attribute references are checked
 //! before the gltf crate validates the JSON, because the crate panics on a GLB header shorter
-//! than itself and on a primitive attribute naming a missing accessor.
+//! than itself and on a primitive attribute naming a missing accessor. Required extensions are
+//! checked against the ones chiaro reads.
 
 const GLB_MAGIC: &[u8; 4] = b"glTF";
 const CHUNK_JSON: u32 = 0x4E4F_534A;
@@ -98,7 +99,20 @@ pub(crate) fn parse(bytes: &[u8]) -> Result<(gltf::Document, Option<Vec<u8>>), S
         check_glb(bytes)?;
     }
     let unchecked = gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| e.to_string())?;
-    let root = unchecked.document.into_json();
+    let mut root = unchecked.document.into_json();
+    if let Some(ext) = root
+        .extensions_required
+        .iter()
+        .find(|e| !super::SUPPORTED_EXTENSIONS.contains(&e.as_str()))
+    {
+        return Err(format!(
+            "requires extension {ext}, which chiaro does not support"
+        ));
+    }
+    // The gltf crate refuses required extensions it does not model itself, such as
+    // EXT_mesh_gpu_instancing, which chiaro reads from the raw JSON.
+    root.extensions_required
+        .retain(|e| gltf::json::extensions::ENABLED_EXTENSIONS.contains(&e.as_str()));
     check_attribute_references(&root)?;
     let document = gltf::Document::from_json(root).map_err(|e| e.to_string())?;
     Ok((document, unchecked.blob))

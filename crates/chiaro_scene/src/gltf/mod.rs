@@ -41,14 +41,6 @@ pub fn load_gltf(path: &Path) -> Result<SceneBuilder, SceneError> {
     let bytes = sources::read_file(path).map_err(whole)?;
     let (document, blob) = container::parse(&bytes).map_err(|e| whole(Fault::Gltf(e)))?;
     drop(bytes);
-    if let Some(ext) = document
-        .extensions_required()
-        .find(|e| !SUPPORTED_EXTENSIONS.contains(e))
-    {
-        return Err(whole(Fault::Gltf(format!(
-            "requires extension {ext}, which chiaro does not support"
-        ))));
-    }
     let base = path.parent().unwrap_or(Path::new("."));
     let at = |(element, fault): (String, Fault)| SceneError::at(source.clone(), element, fault);
     let buffers = sources::load_buffers(&document, blob, base).map_err(at)?;
