@@ -74,7 +74,7 @@ fn scene_json() -> Value {
             {"name": "fan and points", "mesh": 2},
             {"name": "bulb", "translation": [0.0, 2.0, 0.0], "extensions": {"KHR_lights_punctual": {"light": 0}}},
             {"name": "spot", "extensions": {"KHR_lights_punctual": {"light": 1}}},
-            {"name": "sun", "rotation": [-0.7071068, 0.0, 0.0, 0.7071068], "extensions": {"KHR_lights_punctual": {"light": 2}}},
+            {"name": "sun", "rotation": [-std::f32::consts::FRAC_1_SQRT_2, 0.0, 0.0, std::f32::consts::FRAC_1_SQRT_2], "extensions": {"KHR_lights_punctual": {"light": 2}}},
             {"name": "eye", "translation": [0.0, 0.0, 3.0], "camera": 0}
         ],
         "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1, "aspectRatio": 1.5}}],
