@@ -80,10 +80,7 @@ impl Environment {
             ))));
         }
         let mut reader = ImageReader::open(path).map_err(|e| fail(Fault::Io(e)))?;
-        let mut limits = image::Limits::default();
-        limits.max_image_width = Some(MAX_ENVIRONMENT_SIDE);
-        limits.max_image_height = Some(MAX_ENVIRONMENT_SIDE);
-        reader.limits(limits);
+        reader.limits(crate::texture::image_limits(MAX_ENVIRONMENT_SIDE));
         let decoded = reader
             .with_guessed_format()
             .map_err(|e| fail(Fault::Io(e)))?

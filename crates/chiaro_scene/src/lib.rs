@@ -24,6 +24,7 @@
 //! assert!(info.camera.is_some());
 //! ```
 
+pub mod asset_store;
 pub mod bounds;
 pub mod builtin;
 pub mod components;
@@ -41,6 +42,7 @@ mod tangents;
 pub mod texture;
 pub mod transform;
 
+pub use asset_store::{AssetId, AssetStore};
 pub use bevy_ecs::name::Name;
 pub use bounds::Aabb;
 pub use components::{ActiveCamera, Camera, Light, LightKind, MeshInstance, Projection};

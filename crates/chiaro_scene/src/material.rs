@@ -1,9 +1,9 @@
 //! glTF metallic-roughness materials, with the extensions chiaro reads and the notes' energy
 //! absorption factor, in the shared [`Materials`] store.
 
-use bevy_ecs::prelude::*;
 use glam::{Affine2, Vec3, Vec4};
 
+use crate::asset_store::{AssetId, AssetStore};
 use crate::texture::TextureId;
 
 /// Index of a material in [`Materials`].
@@ -188,44 +188,15 @@ impl Material {
 }
 
 /// Every material of the scene.
-#[derive(Resource, Default, Debug)]
-pub struct Materials {
-    materials: Vec<Material>,
-}
+pub type Materials = AssetStore<MaterialId, Material>;
 
-impl Materials {
-    /// Adds a material and returns its id.
-    pub fn add(&mut self, material: Material) -> MaterialId {
-        self.materials.push(material);
-        MaterialId(self.materials.len() as u32 - 1)
+impl AssetId for MaterialId {
+    fn from_index(index: u32) -> Self {
+        Self(index)
     }
 
-    /// The material with this id, if any.
-    pub fn get(&self, id: MaterialId) -> Option<&Material> {
-        self.materials.get(id.0 as usize)
-    }
-
-    /// The material with this id for editing, if any.
-    pub fn get_mut(&mut self, id: MaterialId) -> Option<&mut Material> {
-        self.materials.get_mut(id.0 as usize)
-    }
-
-    /// All materials with their ids.
-    pub fn iter(&self) -> impl Iterator<Item = (MaterialId, &Material)> {
-        self.materials
-            .iter()
-            .enumerate()
-            .map(|(i, m)| (MaterialId(i as u32), m))
-    }
-
-    /// Number of materials.
-    pub fn len(&self) -> usize {
-        self.materials.len()
-    }
-
-    /// True when there are none.
-    pub fn is_empty(&self) -> bool {
-        self.materials.is_empty()
+    fn index(self) -> usize {
+        self.0 as usize
     }
 }
 

@@ -1,8 +1,8 @@
 //! Triangle meshes, validated on construction, and the shared [`Meshes`] store.
 
-use bevy_ecs::prelude::*;
 use glam::{Vec2, Vec3, Vec4};
 
+use crate::asset_store::{AssetId, AssetStore};
 use crate::bounds::Aabb;
 use crate::mesh_repair::{MeshData, MeshFault, repair_mesh};
 
@@ -72,38 +72,14 @@ impl Mesh {
 }
 
 /// Every mesh of the scene, stored once however many instances use it.
-#[derive(Resource, Default, Debug)]
-pub struct Meshes {
-    meshes: Vec<Mesh>,
-}
+pub type Meshes = AssetStore<MeshId, Mesh>;
 
-impl Meshes {
-    /// Adds a mesh and returns its id.
-    pub fn add(&mut self, mesh: Mesh) -> MeshId {
-        self.meshes.push(mesh);
-        MeshId(self.meshes.len() as u32 - 1)
+impl AssetId for MeshId {
+    fn from_index(index: u32) -> Self {
+        Self(index)
     }
 
-    /// The mesh with this id, if any.
-    pub fn get(&self, id: MeshId) -> Option<&Mesh> {
-        self.meshes.get(id.0 as usize)
-    }
-
-    /// All meshes with their ids.
-    pub fn iter(&self) -> impl Iterator<Item = (MeshId, &Mesh)> {
-        self.meshes
-            .iter()
-            .enumerate()
-            .map(|(i, m)| (MeshId(i as u32), m))
-    }
-
-    /// Number of meshes.
-    pub fn len(&self) -> usize {
-        self.meshes.len()
-    }
-
-    /// True when there are none.
-    pub fn is_empty(&self) -> bool {
-        self.meshes.is_empty()
+    fn index(self) -> usize {
+        self.0 as usize
     }
 }

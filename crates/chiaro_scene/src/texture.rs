@@ -1,6 +1,6 @@
 //! Decoded textures, stored once, in the shared [`Textures`] store.
 
-use bevy_ecs::prelude::*;
+use crate::asset_store::{AssetId, AssetStore};
 
 /// Index of a texture in [`Textures`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -31,38 +31,22 @@ pub struct Texture {
 }
 
 /// Every texture of the scene.
-#[derive(Resource, Default, Debug)]
-pub struct Textures {
-    textures: Vec<Texture>,
+pub type Textures = AssetStore<TextureId, Texture>;
+
+impl AssetId for TextureId {
+    fn from_index(index: u32) -> Self {
+        Self(index)
+    }
+
+    fn index(self) -> usize {
+        self.0 as usize
+    }
 }
 
-impl Textures {
-    /// Adds a texture and returns its id.
-    pub fn add(&mut self, texture: Texture) -> TextureId {
-        self.textures.push(texture);
-        TextureId(self.textures.len() as u32 - 1)
-    }
-
-    /// The texture with this id, if any.
-    pub fn get(&self, id: TextureId) -> Option<&Texture> {
-        self.textures.get(id.0 as usize)
-    }
-
-    /// All textures with their ids.
-    pub fn iter(&self) -> impl Iterator<Item = (TextureId, &Texture)> {
-        self.textures
-            .iter()
-            .enumerate()
-            .map(|(i, t)| (TextureId(i as u32), t))
-    }
-
-    /// Number of textures.
-    pub fn len(&self) -> usize {
-        self.textures.len()
-    }
-
-    /// True when there are none.
-    pub fn is_empty(&self) -> bool {
-        self.textures.is_empty()
-    }
+/// Decoding limits for an image whose sides may not exceed `max_side` texels.
+pub(crate) fn image_limits(max_side: u32) -> image::Limits {
+    let mut limits = image::Limits::default();
+    limits.max_image_width = Some(max_side);
+    limits.max_image_height = Some(max_side);
+    limits
 }

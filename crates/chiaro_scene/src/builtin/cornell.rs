@@ -13,7 +13,7 @@ use crate::material::Material;
 use crate::scene_builder::{Node, SceneBuilder};
 use crate::transform::Transform;
 
-use super::shapes::{append_quad, quad};
+use super::shapes::{closed_quads, quad};
 
 const MM: f32 = 0.001;
 
@@ -169,14 +169,7 @@ pub(super) fn build(b: &mut SceneBuilder) -> Result<(), SceneError> {
         ],
     ];
     for (name, faces) in [("short block", short_block), ("tall block", tall_block)] {
-        let all: Vec<Vec3> = faces.iter().flatten().copied().collect();
-        let center = all.iter().sum::<Vec3>() / all.len() as f32;
-        let mut data = crate::mesh_repair::MeshData::default();
-        for face in faces {
-            let face_center = face.iter().sum::<Vec3>() / 4.0;
-            append_quad(&mut data, face, face_center - center);
-        }
-        add(b, name, white, data)?;
+        add(b, name, white, closed_quads(&faces))?;
     }
 
     let eye = p(278.0, 273.0, -800.0);

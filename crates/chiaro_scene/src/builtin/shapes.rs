@@ -48,14 +48,25 @@ pub fn floor(size: f32) -> MeshData {
     )
 }
 
+/// A closed polyhedron from its quad faces, each wound to face away from the centroid of all
+/// corners (right for convex shapes).
+pub fn closed_quads(faces: &[[Vec3; 4]]) -> MeshData {
+    let corners = faces.iter().flatten();
+    let center = corners.clone().sum::<Vec3>() / corners.count().max(1) as f32;
+    let mut data = MeshData::default();
+    for &face in faces {
+        let face_center = face.iter().sum::<Vec3>() / 4.0;
+        append_quad(&mut data, face, face_center - center);
+    }
+    data
+}
+
 /// An axis-aligned box from `min` to `max`, six outward-facing quads (12 triangles).
 pub fn cuboid(min: Vec3, max: Vec3) -> MeshData {
-    let mut data = MeshData::default();
-    let center = 0.5 * (min + max);
     let corner = |x: usize, y: usize, z: usize| {
         Vec3::new([min.x, max.x][x], [min.y, max.y][y], [min.z, max.z][z])
     };
-    let faces = [
+    closed_quads(&[
         [
             corner(0, 0, 0),
             corner(0, 1, 0),
@@ -92,12 +103,7 @@ pub fn cuboid(min: Vec3, max: Vec3) -> MeshData {
             corner(1, 1, 1),
             corner(0, 1, 1),
         ],
-    ];
-    for f in faces {
-        let face_center = 0.25 * (f[0] + f[1] + f[2] + f[3]);
-        append_quad(&mut data, f, face_center - center);
-    }
-    data
+    ])
 }
 
 /// A unit-radius icosphere: an icosahedron subdivided `level` times (20 * 4^level triangles),

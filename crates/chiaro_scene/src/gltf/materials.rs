@@ -364,10 +364,7 @@ impl<'a> MaterialImporter<'a> {
         let mut reader = ImageReader::new(Cursor::new(bytes))
             .with_guessed_format()
             .map_err(|e| format!("{name}: {e}"))?;
-        let mut limits = image::Limits::default();
-        limits.max_image_width = Some(MAX_TEXTURE_SIDE);
-        limits.max_image_height = Some(MAX_TEXTURE_SIDE);
-        reader.limits(limits);
+        reader.limits(crate::texture::image_limits(MAX_TEXTURE_SIDE));
         let decoded = reader
             .decode()
             .map_err(|e| format!("{name} cannot be decoded: {e}"))?
