@@ -1,0 +1,281 @@
+//! [`SceneBvh`]: every mesh's BLAS and the TLAS over the instances, and the ray queries.
+
+use std::collections::HashMap;
+
+use bevy_ecs::prelude::*;
+use bevy_ecs::system::RunSystemOnce;
+use chiaro_scene::{Aabb, GlobalTransform, MeshId, MeshInstance, Meshes, propagate_transforms};
+use glam::{Affine3A, Vec2, Vec3};
+
+use crate::blas::{Blas, Candidate};
+use crate::instance::{InstanceBounds, InstanceRecord, InstanceRejection};
+use crate::object_ray::ObjectRay;
+use crate::ray::{Hit, Ray};
+use crate::tlas::Tlas;
+
+/// The scene's ray-tracing acceleration structure: a BLAS per mesh (shared by all its instances)
+/// and a TLAS over the instances.
+///
+/// Build it once with [`SceneBvh::build`], or keep it current every frame with
+/// [`crate::update_scene_bvh`], which rebuilds only what changed. Queries take `&self` and the
+/// type is `Sync`: trace from as many threads as you like.
+#[derive(Resource, Default, Debug)]
+pub struct SceneBvh {
+    /// BLAS of each mesh id (by index); `None` until built.
+    pub(crate) blases: Vec<Option<Blas>>,
+    pub(crate) instances: Vec<InstanceRecord>,
+    pub(crate) bounds: Vec<InstanceBounds>,
+    pub(crate) tlas: Tlas,
+    /// Instance index of each entity in the TLAS.
+    pub(crate) index_of: HashMap<Entity, u32>,
+    /// Entities with a `MeshInstance` left out of the TLAS, and why.
+    pub(crate) left_out: HashMap<Entity, InstanceRejection>,
+}
+
+impl SceneBvh {
+    /// Builds the BVH of `world` as it is now: propagates transforms (runs
+    /// [`propagate_transforms`]), builds a BLAS for every mesh in [`Meshes`], and the TLAS over
+    /// every entity with a [`MeshInstance`]. Instances that cannot be traced (see
+    /// [`InstanceRejection`]) are left out with a logged warning.
+    pub fn build(world: &mut World) -> Self {
+        if let Err(e) = world.run_system_once(propagate_transforms) {
+            log::error!("propagating transforms before the BVH build failed: {e}");
+        }
+        let mut bvh = Self::default();
+        if let Some(meshes) = world.get_resource::<Meshes>() {
+            bvh.build_new_blases(meshes);
+        }
+        let mut query = world.query::<(Entity, &MeshInstance, &GlobalTransform)>();
+        let items = query
+            .iter(world)
+            .map(|(e, mi, gt)| (e, *mi, gt.0))
+            .collect();
+        bvh.rebuild_tlas(items);
+        bvh
+    }
+
+    /// Builds a BLAS for every mesh of `meshes` that has none yet; returns how many were built.
+    pub(crate) fn build_new_blases(&mut self, meshes: &Meshes) -> u64 {
+        let mut built = 0;
+        if self.blases.len() < meshes.len() {
+            self.blases.resize_with(meshes.len(), || None);
+        }
+        for (id, mesh) in meshes.iter() {
+            let slot = &mut self.blases[id.0 as usize];
+            if slot.is_none() {
+                *slot = Some(Blas::build(mesh));
+                built += 1;
+            }
+        }
+        built
+    }
+
+    /// The BLAS of `mesh`, if built.
+    pub fn blas(&self, mesh: MeshId) -> Option<&Blas> {
+        self.blases.get(mesh.0 as usize)?.as_ref()
+    }
+
+    /// Every built BLAS with its mesh id.
+    pub fn blases(&self) -> impl Iterator<Item = (MeshId, &Blas)> {
+        self.blases
+            .iter()
+            .enumerate()
+            .filter_map(|(i, b)| Some((MeshId(i as u32), b.as_ref()?)))
+    }
+
+    /// The instances in the TLAS; [`Hit::instance`] indexes this slice. Sorted by entity.
+    pub fn instances(&self) -> &[InstanceRecord] {
+        &self.instances
+    }
+
+    /// The instance index of `entity`, if it is in the TLAS.
+    pub fn instance_of(&self, entity: Entity) -> Option<u32> {
+        self.index_of.get(&entity).copied()
+    }
+
+    /// Entities with a [`MeshInstance`] that are not in the TLAS, and why.
+    pub fn left_out(&self) -> impl Iterator<Item = (Entity, InstanceRejection)> + '_ {
+        self.left_out.iter().map(|(e, r)| (*e, *r))
+    }
+
+    /// World bounds of all instances (each grown by its robustness pad); empty without any.
+    pub fn bounds(&self) -> Aabb {
+        self.bounds
+            .iter()
+            .fold(Aabb::EMPTY, |b, i| b.union(i.bounds))
+    }
+
+    /// Bytes of traversal data: every BLAS, the TLAS nodes and the instance records.
+    pub fn memory_bytes(&self) -> usize {
+        self.blases().map(|(_, b)| b.memory_bytes()).sum::<usize>()
+            + std::mem::size_of_val(self.tlas.nodes.as_slice())
+            + std::mem::size_of_val(self.instances.as_slice())
+    }
+
+    /// The nearest hit of `ray` in `(t_min, t_max)`, or `None` (also for an invalid ray, see
+    /// [`Ray::is_valid`]).
+    pub fn closest_hit(&self, ray: &Ray) -> Option<Hit> {
+        self.closest_hit_filtered(ray, |_| true)
+    }
+
+    /// Like [`SceneBvh::closest_hit`], but a candidate hit for which `accept` returns false is
+    /// ignored, as if the triangle had a hole there (alpha masking). `accept` is called only for
+    /// candidates nearer than the best accepted so far, in no particular order.
+    pub fn closest_hit_with(&self, ray: &Ray, accept: &dyn Fn(&Hit) -> bool) -> Option<Hit> {
+        self.closest_hit_filtered(ray, accept)
+    }
+
+    /// True if anything is hit in `(t_min, t_max)` (an occlusion test); stops at the first
+    /// occluder found, which need not be the nearest. False for an invalid ray.
+    pub fn any_hit(&self, ray: &Ray) -> bool {
+        self.any_hit_filtered(ray, |_| true)
+    }
+
+    /// Like [`SceneBvh::any_hit`], but candidates that `accept` rejects do not occlude.
+    pub fn any_hit_with(&self, ray: &Ray, accept: &dyn Fn(&Hit) -> bool) -> bool {
+        self.any_hit_filtered(ray, accept)
+    }
+
+    fn closest_hit_filtered(&self, ray: &Ray, accept: impl Fn(&Hit) -> bool) -> Option<Hit> {
+        if !ray.is_valid() || ray.t_min >= ray.t_max {
+            return None;
+        }
+        let mut best = None;
+        let mut t_max = ray.t_max;
+        self.tlas.traverse(ray, &mut t_max, &mut |instance, t_max| {
+            self.trace_instance(ray, instance, t_max, &mut |hit| {
+                if accept(&hit) {
+                    best = Some(hit);
+                    Candidate::Accept
+                } else {
+                    Candidate::Reject
+                }
+            })
+        });
+        best
+    }
+
+    fn any_hit_filtered(&self, ray: &Ray, accept: impl Fn(&Hit) -> bool) -> bool {
+        if !ray.is_valid() || ray.t_min >= ray.t_max {
+            return false;
+        }
+        let mut t_max = ray.t_max;
+        self.tlas.traverse(ray, &mut t_max, &mut |instance, t_max| {
+            self.trace_instance(ray, instance, t_max, &mut |hit| {
+                if accept(&hit) {
+                    Candidate::Stop
+                } else {
+                    Candidate::Reject
+                }
+            })
+        })
+    }
+
+    /// Traverses one instance's BLAS; returns true when `on_hit` stopped it.
+    #[inline]
+    fn trace_instance(
+        &self,
+        ray: &Ray,
+        instance: u32,
+        t_max: &mut f32,
+        on_hit: &mut impl FnMut(Hit) -> Candidate,
+    ) -> bool {
+        let record = &self.instances[instance as usize];
+        let Some(blas) = self.blas(record.mesh) else {
+            return false;
+        };
+        let Some(object_ray) = ObjectRay::from_world(ray, &record.inverse) else {
+            return false;
+        };
+        blas.traverse(&object_ray, ray.t_min, t_max, &mut |triangle, h| {
+            on_hit(Hit {
+                t: h.t,
+                instance,
+                triangle,
+                barycentrics: Vec2::new(h.b1, h.b2),
+            })
+        })
+    }
+
+    /// The world-space vertices of `triangle` of instance `instance`.
+    pub fn world_triangle(&self, instance: u32, triangle: u32) -> Option<[Vec3; 3]> {
+        let record = self.instances.get(instance as usize)?;
+        let v = self.blas(record.mesh)?.triangle(triangle)?;
+        Some(v.map(|p| record.world.transform_point3(p)))
+    }
+
+    /// The world-space point of `hit`, interpolated from the triangle's vertices with its
+    /// barycentrics. Prefer it to `ray.at(hit.t)` as the base of [`crate::offset_ray_origin`]:
+    /// its error is relative to the point's own coordinates, not to the ray's length.
+    pub fn hit_point(&self, hit: &Hit) -> Option<Vec3> {
+        let record = self.instances.get(hit.instance as usize)?;
+        let [a, b, c] = self.blas(record.mesh)?.triangle(hit.triangle)?;
+        let w = hit.weights();
+        Some(record.world.transform_point3(a * w.x + b * w.y + c * w.z))
+    }
+
+    /// The unit world-space geometric normal of `hit`'s triangle, on the side of its
+    /// counter-clockwise front face (`(v1 - v0) x (v2 - v0)` in world space).
+    pub fn geometric_normal(&self, hit: &Hit) -> Option<Vec3> {
+        let [a, b, c] = self.world_triangle(hit.instance, hit.triangle)?;
+        (b - a).cross(c - a).try_normalize()
+    }
+
+    /// Rebuilds the TLAS over `items` (entity, instance, world matrix), re-checking each.
+    pub(crate) fn rebuild_tlas(&mut self, mut items: Vec<(Entity, MeshInstance, Affine3A)>) {
+        items.sort_by_key(|(e, _, _)| *e);
+        let previous = std::mem::take(&mut self.left_out);
+        self.instances.clear();
+        self.bounds.clear();
+        self.index_of.clear();
+        for (entity, mi, world) in items {
+            let blas = self.blas(mi.mesh);
+            match crate::instance::prepare_instance(entity, mi.mesh, mi.material, world, blas) {
+                Ok((record, bounds)) => {
+                    self.index_of.insert(entity, self.instances.len() as u32);
+                    self.instances.push(record);
+                    self.bounds.push(bounds);
+                }
+                Err(why) => {
+                    if previous.get(&entity) != Some(&why) {
+                        log::warn!("instance {entity} left out of the BVH: {why}");
+                    }
+                    self.left_out.insert(entity, why);
+                }
+            }
+        }
+        self.tlas = Tlas::build(&self.bounds);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn scene_bvh_is_send_and_sync() {
+        fn check<T: Send + Sync>() {}
+        check::<SceneBvh>();
+    }
+
+    #[test]
+    fn cornell_box_is_closed_from_inside() {
+        let mut world = World::new();
+        chiaro_scene::load_scene(&mut world, "builtin:cornell").unwrap();
+        let bvh = SceneBvh::build(&mut world);
+        let center = bvh.bounds().center();
+        let mut hits = 0;
+        for i in 0..200 {
+            let a = i as f32 * 0.731;
+            let dir = Vec3::new(a.cos(), (a * 1.7).sin(), a.sin());
+            let hit = bvh.closest_hit(&Ray::new(center, dir));
+            // The camera wall of the Cornell box is open: rays toward it may escape.
+            hits += usize::from(hit.is_some());
+            if let Some(h) = hit {
+                let p = bvh.hit_point(&h).unwrap();
+                assert!((p - (center + dir * h.t)).length() < 1e-3);
+            }
+        }
+        assert!(hits > 100, "{hits}");
+    }
+}
