@@ -1,15 +1,39 @@
 //! chiaro's shading model in plain Rust (glam only, no ECS, no GPU).
 //!
-//! This crate is the spec that the WGSL in `shaders/lib/` mirrors. It starts with colour: the
-//! sRGB transfer functions and luminance used by every other crate.
+//! This crate is the spec that the WGSL in `shaders/lib/` mirrors function for function: the CPU
+//! reference path tracer and the GPU passes shade with exactly these formulas, so a parity test can
+//! run both on the same random inputs and compare.
+//!
+//! - [`color`]: the sRGB transfer functions and luminance.
+//! - [`rng`]: PCG32, the random stream both sides draw from.
+//! - [`frame`]: the local shading frame (z = normal).
+//! - [`sampling`]: warps from uniform numbers to directions and points; the power heuristic.
+//! - [`distribution`]: discrete 1D and 2D distributions (light selection, environment texels).
+//!
+//! Conventions: directions are unit vectors pointing away from the surface; BRDF functions work in
+//! the local frame of [`frame::Frame`], light functions in world space. Every sampling function
+//! takes its uniform random numbers as arguments. Hard cases (grazing angles, zero roughness,
+//! degenerate lights) have defined, finite answers, documented where they are made.
 //!
 //! ```
 //! use chiaro_shading::color::{linear_to_srgb, luminance, srgb_to_linear};
+//! use chiaro_shading::rng::Pcg32;
 //! use glam::Vec3;
 //!
 //! let grey = srgb_to_linear(0.5);
 //! assert!((linear_to_srgb(grey) - 0.5).abs() < 1e-6);
 //! assert!((luminance(Vec3::ONE) - 1.0).abs() < 1e-6);
+//! let mut rng = Pcg32::new(1, 0);
+//! assert!(rng.next_f32() < 1.0);
 //! ```
 
+#![warn(missing_docs)]
+
 pub mod color;
+pub mod distribution;
+pub mod frame;
+pub mod rng;
+pub mod sampling;
+
+#[cfg(test)]
+mod test_util;
