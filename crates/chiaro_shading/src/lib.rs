@@ -9,6 +9,8 @@
 //! - [`frame`]: the local shading frame (z = normal).
 //! - [`sampling`]: warps from uniform numbers to directions and points; the power heuristic.
 //! - [`distribution`]: discrete 1D and 2D distributions (light selection, environment texels).
+//! - [`ggx`]: the GGX microfacet distribution, Smith masking-shadowing, visible-normal sampling.
+//! - [`brdf`]: the glTF metallic-roughness BRDF: `eval`, `pdf`, `sample`.
 //!
 //! Conventions: directions are unit vectors pointing away from the surface; BRDF functions work in
 //! the local frame of [`frame::Frame`], light functions in world space. Every sampling function
@@ -16,22 +18,42 @@
 //! degenerate lights) have defined, finite answers, documented where they are made.
 //!
 //! ```
+//! use chiaro_shading::brdf::{self, SurfaceParams};
 //! use chiaro_shading::color::{linear_to_srgb, luminance, srgb_to_linear};
+//! use chiaro_shading::frame::Frame;
 //! use chiaro_shading::rng::Pcg32;
 //! use glam::Vec3;
 //!
 //! let grey = srgb_to_linear(0.5);
 //! assert!((linear_to_srgb(grey) - 0.5).abs() < 1e-6);
 //! assert!((luminance(Vec3::ONE) - 1.0).abs() < 1e-6);
+//!
+//! // Shade a rough gold-ish metal seen at 60 degrees from the normal.
+//! let params = SurfaceParams {
+//!     base_color: Vec3::new(1.0, 0.8, 0.3),
+//!     metallic: 1.0,
+//!     roughness: 0.4,
+//!     ..SurfaceParams::default()
+//! };
+//! let normal = Vec3::new(0.0, 1.0, 0.0);
+//! let frame = Frame::from_normal(normal);
+//! let to_viewer = Vec3::new(0.866, 0.5, 0.0);
+//! let wo = frame.to_local(to_viewer);
 //! let mut rng = Pcg32::new(1, 0);
-//! assert!(rng.next_f32() < 1.0);
+//! if let Some(s) = brdf::sample(&params, wo, rng.next_f32(), rng.next_vec2()) {
+//!     let wi_world = frame.to_world(s.wi);
+//!     assert!(wi_world.dot(normal) > 0.0);
+//!     assert!(s.weight.is_finite() && s.pdf > 0.0);
+//! }
 //! ```
 
 #![warn(missing_docs)]
 
+pub mod brdf;
 pub mod color;
 pub mod distribution;
 pub mod frame;
+pub mod ggx;
 pub mod rng;
 pub mod sampling;
 

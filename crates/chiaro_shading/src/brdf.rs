@@ -1,0 +1,307 @@
+//! The glTF 2.0 metallic-roughness BRDF: a Lambertian diffuse lobe and a GGX Cook-Torrance
+//! specular lobe, mixed by Schlick's Fresnel, in the local shading frame (z = shading normal;
+//! `wo` and `wi` are unit vectors pointing away from the surface).
+//!
+//! f(wo, wi) = (1 - absorption) [ (1 - F) (1 - metallic) base_color / pi + D G2 F / (4 |n.wo| |n.wi|) ]
+//!
+//! - D: GGX with alpha = roughness^2 ([`crate::ggx::ndf`]; Walter et al., 2007, "Microfacet Models
+//!   for Refraction through Rough Surfaces").
+//! - G2: Smith height-correlated masking-shadowing for GGX ([`crate::ggx::visibility`]; Heitz,
+//!   2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs").
+//! - F: Schlick, 1994, "An Inexpensive BRDF Model for Physically-based Rendering", at the half
+//!   vector (h.wi), with F0 = mix(f0_dielectric, base_color, metallic) and
+//!   F90 = clamp(50 luminance(F0), 0, 1) (Filament's convention, Guy and Agopian, "Physically Based
+//!   Rendering in Filament", section 4.4.3): F0 = 0 switches specular off entirely, so a material
+//!   with IOR 1 and metallic 0 is exactly Lambertian.
+//! - The mix of the two lobes by F(h.wi) is glTF 2.0's reference model (specification, appendix B,
+//!   `fresnel_mix`). It is not energy-conserving at grazing angles for bright dielectrics: the
+//!   specular lobe takes F at the viewing angle while the diffuse lobe only gives up F at the
+//!   (much smaller) half-vector angle of each diffuse direction. See the tests for the measured
+//!   albedo; metals and the specular lobe on its own never exceed 1.
+//!
+//! Sampling ([`sample`]): one lobe is picked with a Fresnel-weighted estimate
+//! ([`specular_probability`]), diffuse by cosine-weighted hemisphere sampling, specular by GGX
+//! visible-normal sampling (Heitz, 2018, "Sampling the GGX Distribution of Visible Normals"); the
+//! weight uses the combined pdf of both lobes (one-sample MIS with the balance heuristic, Veach,
+//! 1997, thesis, section 9.2.4), so [`pdf`] is that combined pdf.
+//!
+//! Clamps (all applied on entry, so every function sees the same material):
+//! - `base_color` per channel, `metallic`, `roughness`, `f0_dielectric` and `absorption` to [0, 1];
+//! - alpha below [`MIRROR_ALPHA`] makes the specular lobe a perfect mirror (a delta lobe);
+//! - the cosine passed to Schlick's formula is clamped to [0, 1];
+//! - the visibility denominator is kept at least [`crate::ggx::VISIBILITY_DENOMINATOR_FLOOR`].
+//!
+//! Defined answers: wo.z <= 0 or wi.z <= 0 gives zero from [`eval`] and [`pdf`] and `None` from
+//! [`sample`]. No finite input (unit directions, parameters anywhere) yields NaN or infinity.
+
+use std::f32::consts::{FRAC_1_PI, PI};
+
+use glam::{Vec2, Vec3};
+
+use crate::color::luminance;
+use crate::ggx;
+use crate::sampling::cosine_hemisphere;
+
+/// Below this alpha (= roughness^2, i.e. roughness below about 0.0316) the specular lobe is a
+/// perfect mirror: a delta lobe that [`eval`] and [`pdf`] leave out and [`sample`] returns with
+/// `delta: true`. At this alpha, D peaks at 1/(pi 1e-6) = 3.2e5 and the lobe is under 0.1 degree
+/// wide: sharper than a pixel's footprint and than f32 sampling of the lobe can resolve well.
+pub const MIRROR_ALPHA: f32 = 1e-3;
+
+/// When both lobes exist, the specular lobe's selection probability is kept in
+/// [MIN_LOBE_PROBABILITY, 1 - MIN_LOBE_PROBABILITY], so neither lobe is starved of samples when
+/// the Fresnel estimate misjudges it (for example a glossy highlight on a bright diffuse base).
+pub const MIN_LOBE_PROBABILITY: f32 = 0.1;
+
+/// The normal-incidence reflectance of a dielectric of IOR 1.5: 0.04.
+pub const DEFAULT_F0_DIELECTRIC: f32 = 0.04;
+
+/// The dielectric normal-incidence reflectance for an index of refraction (KHR_materials_ior):
+/// ((ior - 1) / (ior + 1))^2. IOR 1.5 gives 0.04, IOR 1 gives 0. Negative IORs are treated as 0.
+pub fn f0_from_ior(ior: f32) -> f32 {
+    let ior = ior.max(0.0);
+    ((ior - 1.0) / (ior + 1.0)).powi(2)
+}
+
+/// A surface's material at a shading point, after texture lookup.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfaceParams {
+    /// Linear RGB base colour (diffuse albedo for dielectrics, F0 for metals); clamped to [0, 1].
+    pub base_color: Vec3,
+    /// 0 = dielectric, 1 = metal; clamped to [0, 1].
+    pub metallic: f32,
+    /// Perceptual roughness; alpha = roughness^2. Clamped to [0, 1].
+    pub roughness: f32,
+    /// Dielectric normal-incidence reflectance, ((ior - 1) / (ior + 1))^2 ([`f0_from_ior`]);
+    /// clamped to [0, 1].
+    pub f0_dielectric: f32,
+    /// Fraction of energy absorbed: f is scaled by (1 - absorption). Clamped to [0, 1].
+    pub absorption: f32,
+}
+
+impl Default for SurfaceParams {
+    /// glTF's default material: white, metallic 1, roughness 1, IOR 1.5, no absorption.
+    fn default() -> Self {
+        Self {
+            base_color: Vec3::ONE,
+            metallic: 1.0,
+            roughness: 1.0,
+            f0_dielectric: DEFAULT_F0_DIELECTRIC,
+            absorption: 0.0,
+        }
+    }
+}
+
+/// A direction drawn by [`sample`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BrdfSample {
+    /// The incident direction, local frame, wi.z > 0.
+    pub wi: Vec3,
+    /// The throughput multiplier: f cos / pdf for non-delta samples; for the mirror lobe,
+    /// F (1 - absorption) / (its selection probability).
+    pub weight: Vec3,
+    /// The solid-angle pdf of `wi` over both non-delta lobes ([`pdf`]); for the mirror lobe, its
+    /// selection probability.
+    pub pdf: f32,
+    /// True for the perfect mirror lobe (alpha below [`MIRROR_ALPHA`]).
+    pub delta: bool,
+}
+
+/// Schlick's Fresnel approximation: F0 + (F90 - F0) (1 - cos)^5, with cos clamped to [0, 1].
+pub fn fresnel_schlick(f0: Vec3, f90: f32, cos_theta: f32) -> Vec3 {
+    let m = 1.0 - cos_theta.clamp(0.0, 1.0);
+    let m2 = m * m;
+    let m5 = m2 * m2 * m;
+    f0 + (Vec3::splat(f90) - f0) * m5
+}
+
+/// The grazing reflectance for a normal-incidence reflectance: clamp(50 luminance(F0), 0, 1)
+/// (Filament: no real material has F0 below 0.02, so lower values are read as pre-baked occlusion
+/// and take the grazing reflectance down with them).
+pub fn f90_from_f0(f0: Vec3) -> f32 {
+    (50.0 * luminance(f0)).clamp(0.0, 1.0)
+}
+
+/// The material with every clamp applied and the derived quantities every function needs.
+#[derive(Clone, Copy, Debug)]
+struct Material {
+    /// (1 - metallic) base_color.
+    diffuse: Vec3,
+    f0: Vec3,
+    f90: f32,
+    alpha: f32,
+    /// 1 - absorption.
+    scale: f32,
+    /// Alpha below [`MIRROR_ALPHA`]: the specular lobe is a delta.
+    mirror: bool,
+}
+
+impl Material {
+    fn new(p: &SurfaceParams) -> Self {
+        let base = p.base_color.clamp(Vec3::ZERO, Vec3::ONE);
+        let metallic = p.metallic.clamp(0.0, 1.0);
+        let f0_dielectric = p.f0_dielectric.clamp(0.0, 1.0);
+        let f0 = Vec3::splat(f0_dielectric).lerp(base, metallic);
+        let alpha = ggx::alpha_from_roughness(p.roughness);
+        Self {
+            diffuse: base * (1.0 - metallic),
+            f0,
+            f90: f90_from_f0(f0),
+            alpha,
+            scale: 1.0 - p.absorption.clamp(0.0, 1.0),
+            mirror: alpha < MIRROR_ALPHA,
+        }
+    }
+
+    /// Selection probabilities (specular, diffuse) for this view: both 0 when the material
+    /// reflects nothing, otherwise summing to 1.
+    fn lobe_probabilities(&self, wo_z: f32) -> (f32, f32) {
+        let fresnel = fresnel_schlick(self.f0, self.f90, wo_z);
+        let specular = luminance(fresnel);
+        let diffuse = luminance((Vec3::ONE - fresnel) * self.diffuse);
+        let p = if specular <= 0.0 && diffuse <= 0.0 {
+            return (0.0, 0.0);
+        } else if diffuse <= 0.0 {
+            1.0
+        } else if specular <= 0.0 {
+            0.0
+        } else {
+            (specular / (specular + diffuse))
+                .clamp(MIN_LOBE_PROBABILITY, 1.0 - MIN_LOBE_PROBABILITY)
+        };
+        (p, 1.0 - p)
+    }
+}
+
+/// The unit half vector of two unit directions above the surface. The sum is divided by its
+/// largest component before normalizing, so it cannot underflow even when wo and wi are nearly
+/// opposite at the horizon; the sum is never zero there since both have z > 0.
+fn half_vector(wo: Vec3, wi: Vec3) -> Vec3 {
+    let sum = wo + wi;
+    let largest = sum.abs().max_element();
+    if largest <= 0.0 {
+        return Vec3::Z;
+    }
+    (sum / largest).normalize()
+}
+
+/// The two lobes of f for wo, wi above the surface, without the (1 - absorption) scale, with the
+/// diffuse lobe times pi (so it is exactly the diffuse albedo): (pi f_diffuse, f_specular).
+fn lobes(m: &Material, wo: Vec3, wi: Vec3) -> (Vec3, Vec3) {
+    let h = half_vector(wo, wi);
+    let fresnel = fresnel_schlick(m.f0, m.f90, h.dot(wi));
+    let diffuse = (Vec3::ONE - fresnel) * m.diffuse;
+    let specular = if m.mirror {
+        Vec3::ZERO
+    } else {
+        fresnel * (ggx::ndf(h, m.alpha) * ggx::visibility(wo, wi, m.alpha))
+    };
+    (diffuse, specular)
+}
+
+/// The solid-angle pdf of the specular lobe's VNDF sampling for wo, wi above the surface (0 for
+/// the mirror, whose delta is not part of any pdf).
+fn specular_pdf(m: &Material, wo: Vec3, wi: Vec3) -> f32 {
+    if m.mirror {
+        return 0.0;
+    }
+    ggx::reflected_vndf_pdf(wo, half_vector(wo, wi), m.alpha)
+}
+
+/// The probability that [`sample`] picks the specular lobe for this view: luminance of Schlick's
+/// F(wo.z) against luminance of the diffuse weight (1 - F(wo.z)) (1 - metallic) base_color,
+/// clamped to [`MIN_LOBE_PROBABILITY`], 1 - [`MIN_LOBE_PROBABILITY`] when both lobes exist;
+/// exactly 0 or 1 when only one does; 0 when the material reflects nothing or wo.z <= 0.
+pub fn specular_probability(p: &SurfaceParams, wo: Vec3) -> f32 {
+    if wo.z <= 0.0 {
+        return 0.0;
+    }
+    Material::new(p).lobe_probabilities(wo.z).0
+}
+
+/// The BRDF value f(wo, wi) (no cosine), for unit local directions; zero when wo.z <= 0 or
+/// wi.z <= 0. With alpha below [`MIRROR_ALPHA`] the mirror lobe is a delta and only the diffuse
+/// part is returned.
+pub fn eval(p: &SurfaceParams, wo: Vec3, wi: Vec3) -> Vec3 {
+    if wo.z <= 0.0 || wi.z <= 0.0 {
+        return Vec3::ZERO;
+    }
+    let m = Material::new(p);
+    let (diffuse, specular) = lobes(&m, wo, wi);
+    (diffuse * FRAC_1_PI + specular) * m.scale
+}
+
+/// The solid-angle pdf with which [`sample`] produces `wi` from its non-delta lobes, lobe
+/// selection probabilities included; zero when wo.z <= 0 or wi.z <= 0.
+pub fn pdf(p: &SurfaceParams, wo: Vec3, wi: Vec3) -> f32 {
+    if wo.z <= 0.0 || wi.z <= 0.0 {
+        return 0.0;
+    }
+    let m = Material::new(p);
+    let (p_specular, p_diffuse) = m.lobe_probabilities(wo.z);
+    combined_pdf(&m, wo, wi, p_specular, p_diffuse)
+}
+
+fn combined_pdf(m: &Material, wo: Vec3, wi: Vec3, p_specular: f32, p_diffuse: f32) -> f32 {
+    let specular = if p_specular > 0.0 {
+        p_specular * specular_pdf(m, wo, wi)
+    } else {
+        0.0
+    };
+    p_diffuse * (wi.z * FRAC_1_PI) + specular
+}
+
+/// Draws an incident direction for the view `wo` (local frame): `u_lobe` picks the lobe (specular
+/// when below [`specular_probability`]), `u` drives that lobe's warp. `None` when wo.z <= 0, when
+/// the material reflects nothing (both lobes zero), or when the direction drawn is at or below the
+/// horizon (the visible-normal reflection can point below it; that probability mass is simply
+/// lost, and [`pdf`] does not count it).
+pub fn sample(p: &SurfaceParams, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BrdfSample> {
+    if wo.z <= 0.0 {
+        return None;
+    }
+    let m = Material::new(p);
+    let (p_specular, p_diffuse) = m.lobe_probabilities(wo.z);
+    if p_specular <= 0.0 && p_diffuse <= 0.0 {
+        return None;
+    }
+    let wi = if u_lobe < p_specular {
+        if m.mirror {
+            let wi = Vec3::new(-wo.x, -wo.y, wo.z);
+            let fresnel = fresnel_schlick(m.f0, m.f90, wo.z);
+            return Some(BrdfSample {
+                wi,
+                weight: fresnel * m.scale / p_specular,
+                pdf: p_specular,
+                delta: true,
+            });
+        }
+        let h = ggx::sample_vndf(wo, m.alpha, u);
+        2.0 * wo.dot(h) * h - wo
+    } else {
+        cosine_hemisphere(u)
+    };
+    if wi.z <= 0.0 {
+        return None;
+    }
+    let pdf = combined_pdf(&m, wo, wi, p_specular, p_diffuse);
+    if pdf.is_nan() || pdf <= 0.0 {
+        return None;
+    }
+    // weight = f cos / pdf, divided through by cos / pi so that it stays finite as wi.z -> 0 and
+    // is exactly the diffuse albedo for a purely diffuse material.
+    let (diffuse, specular) = lobes(&m, wo, wi);
+    let numerator = (diffuse + specular * PI) * m.scale;
+    let denominator = p_diffuse + p_specular * specular_pdf(&m, wo, wi) * PI / wi.z;
+    Some(BrdfSample {
+        wi,
+        weight: numerator / denominator,
+        pdf,
+        delta: false,
+    })
+}
+
+#[cfg(test)]
+mod chi2_tests;
+#[cfg(test)]
+mod tests;
