@@ -11,6 +11,8 @@
 //! - [`distribution`]: discrete 1D and 2D distributions (light selection, environment texels).
 //! - [`ggx`]: the GGX microfacet distribution, Smith masking-shadowing, visible-normal sampling.
 //! - [`brdf`]: the glTF metallic-roughness BRDF: `eval`, `pdf`, `sample`.
+//! - [`lights`]: point, spot, directional, triangle and environment lights: sampling and pdfs.
+//! - [`tonemap`]: ACES (fitted), Khronos PBR Neutral, clamp.
 //!
 //! Conventions: directions are unit vectors pointing away from the surface; BRDF functions work in
 //! the local frame of [`frame::Frame`], light functions in world space. Every sampling function
@@ -54,8 +56,10 @@ pub mod color;
 pub mod distribution;
 pub mod frame;
 pub mod ggx;
+pub mod lights;
 pub mod rng;
 pub mod sampling;
+pub mod tonemap;
 
 #[cfg(test)]
 mod test_util;
