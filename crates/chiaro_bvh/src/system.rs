@@ -89,14 +89,13 @@ pub fn update_scene_bvh(
     if fresh {
         commands.insert_resource(created);
     }
-    let mut new_stats = BvhStats::default();
-    let stats_missing = stats.is_none();
+    let mut created_stats = BvhStats::default();
     let mut stats = stats;
     let s: &mut BvhStats = match stats.as_mut() {
-        Some(s) if did_work => s.as_mut(),
-        Some(_) => return,
-        None => &mut new_stats,
+        Some(s) => s.bypass_change_detection(),
+        None => &mut created_stats,
     };
+    let before = s.clone();
     s.blas_builds += built;
     match work {
         TlasWork::None => {}
@@ -104,12 +103,16 @@ pub fn update_scene_bvh(
         TlasWork::Rebuilt => s.tlas_builds += 1,
     }
     if did_work {
-        s.instances = instances;
-        s.left_out_instances = left_out;
         s.last_work_seconds = start.elapsed().as_secs_f64();
     }
-    if stats_missing {
-        commands.insert_resource(new_stats);
+    // Gauges: kept current even when no work was done (an instance left out on arrival).
+    s.instances = instances;
+    s.left_out_instances = left_out;
+    let stats_changed = *s != before;
+    match stats.as_mut() {
+        Some(s) if stats_changed => s.set_changed(),
+        Some(_) => {}
+        None => commands.insert_resource(created_stats),
     }
 }
 

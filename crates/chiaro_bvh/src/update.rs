@@ -1,5 +1,5 @@
-//! Applying instance changes to a [`SceneBvh`]: refit what moved, rebuild the TLAS only when its
-//! membership changed or refits have degraded it.
+//! Applying instance changes to a [`SceneBvh`]: re-insert or refit what moved, rebuild the TLAS
+//! only when its membership changed or updates have degraded it.
 
 use bevy_ecs::entity::Entity;
 use chiaro_scene::MeshInstance;
@@ -93,7 +93,7 @@ impl SceneBvh {
         } else {
             for index in moved {
                 self.tlas
-                    .refit_instance(index, &self.bounds[index as usize]);
+                    .reinsert_instance(index, &self.bounds[index as usize]);
             }
         }
         if self.tlas.degraded() {
