@@ -254,27 +254,25 @@ fn specular_lobe_never_reflects_more_than_it_receives() {
     }
 }
 
-/// Energy of the full glTF mix: for random materials, seen within about 45 degrees of the
-/// normal, the albedo stays at most 1 (+1% for the estimate's noise).
+/// Energy of the full model: for random materials seen from the normal to grazing, the albedo
+/// stays at most 1 (+1% for the estimate's noise).
 #[test]
-fn full_model_reflects_at_most_what_it_receives_near_normal_incidence() {
+fn full_model_never_reflects_more_than_it_receives() {
     let mut rng = Pcg32::new(5, 55);
     for _ in 0..40 {
         let p = random_params(&mut rng);
-        for mu in [1.0f32, 0.85, 0.7] {
+        for mu in [1.0f32, 0.7, 0.3, 0.1, 0.02] {
             let e = sampled_albedo(&p, direction(mu), 32, &mut rng);
             assert!(e.max_element() <= 1.01, "{p:?} mu {mu}: albedo {e}");
         }
     }
 }
 
-/// Characterises a known property of the specified model (glTF's `fresnel_mix` with F at h.wi):
-/// a bright dielectric gains energy at grazing views, because the specular lobe reflects about
-/// F(wo.z) while the diffuse lobe keeps (1 - F(h.wi)) with the much larger h.wi. The measured
-/// albedo of a white dielectric (F0 = 0.04) is pinned here so that changing the mix (for example
-/// to an energy-conserving one) is a deliberate, visible decision.
+/// The white dielectric that glTF's reference mix over-brightens at grazing views (albedo 1.13
+/// at roughness 0.5, 1.72 as a mirror, at mu = 0.05) stays below 1 everywhere with the coupled
+/// diffuse weight, and keeps most of its energy at normal incidence.
 #[test]
-fn gltf_fresnel_mix_gains_energy_at_grazing_views() {
+fn white_dielectric_conserves_energy_at_grazing_views() {
     let mut rng = Pcg32::new(8, 80);
     let white = |roughness| SurfaceParams {
         base_color: Vec3::ONE,
@@ -283,14 +281,14 @@ fn gltf_fresnel_mix_gains_energy_at_grazing_views() {
         f0_dielectric: DEFAULT_F0_DIELECTRIC,
         absorption: 0.0,
     };
-    // Near the normal the mix is (almost) energy-conserving...
     let e = sampled_albedo(&white(0.5), direction(1.0), 48, &mut rng).x;
-    assert!((0.98..=1.0).contains(&e), "{e}");
-    // ...at grazing it is not: about 1.13 at roughness 0.5 and 1.7 for the mirror, mu = 0.05.
-    let e = sampled_albedo(&white(0.5), direction(0.05), 48, &mut rng).x;
-    assert!((1.10..1.17).contains(&e), "{e}");
-    let e = sampled_albedo(&white(0.0), direction(0.05), 48, &mut rng).x;
-    assert!((1.65..1.78).contains(&e), "{e}");
+    assert!((0.9..=1.0).contains(&e), "{e}");
+    for roughness in [0.0, 0.2, 0.5, 1.0] {
+        for mu in [0.3f32, 0.05] {
+            let e = sampled_albedo(&white(roughness), direction(mu), 48, &mut rng).x;
+            assert!(e <= 1.005, "roughness {roughness} mu {mu}: {e}");
+        }
+    }
 }
 
 /// Helmholtz reciprocity: f(wo, wi) = f(wi, wo) (up to rounding), for random materials.
