@@ -1,8 +1,8 @@
 //! chiaro: a real-time hybrid path tracer for `bevy_ecs` applications.
 //!
-//! This crate re-exports the workspace's crates under one name:
-//! [`scene`] (the scene as ECS data, glTF import, built-in scenes) and [`shading`] (the shading
-//! model).
+//! This crate re-exports the workspace's crates under one name: [`scene`] (the scene as ECS
+//! data, glTF import, built-in scenes), [`shading`] (the shading model), [`bvh`] (BLAS and TLAS
+//! over the scene) and [`reference`] (the CPU reference path tracer).
 //!
 //! ```
 //! use bevy_ecs::world::World;
@@ -12,5 +12,7 @@
 //! assert!(spawned.repairs.is_empty());
 //! ```
 
+pub use chiaro_bvh as bvh;
+pub use chiaro_reference as reference;
 pub use chiaro_scene as scene;
 pub use chiaro_shading as shading;

@@ -1,13 +1,16 @@
 //! The `chiaro` command line.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, bail};
 use bevy_ecs::world::World;
-use clap::{Parser, Subcommand};
+use clap::{Args, Parser, Subcommand};
+use glam::Vec3;
 
+use chiaro::reference::{PathSettings, RenderSettings, render_world, write_exr, write_png};
 use chiaro::scene::{Environment, SceneInfo, load_scene};
+use chiaro::shading::tonemap::Tonemapper;
 
 #[derive(Parser)]
 #[command(
@@ -20,51 +23,192 @@ struct Cli {
     command: Command,
 }
 
+/// Options shared by every command that takes a scene.
+#[derive(Args)]
+struct SceneArgs {
+    /// A .gltf or .glb file, or builtin:NAME (cornell, furnace, hard-cases, instances,
+    /// many-lights), e.g. builtin:instances?n=10000.
+    scene: String,
+    /// Replaces the scene's environment: an equirectangular .hdr or .exr image, or a constant
+    /// linear colour R,G,B.
+    #[arg(long)]
+    env: Option<String>,
+    /// Multiplies the environment's radiance.
+    #[arg(long, default_value_t = 1.0)]
+    env_strength: f32,
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Print what a scene holds: meshes, triangles, instances, materials and their texture
     /// slots, lights by kind, emissive triangles, camera, environment, bounds, and what import
     /// repaired.
     Info {
-        /// A .gltf or .glb file, or builtin:NAME (cornell, furnace, hard-cases, instances,
-        /// many-lights), e.g. builtin:instances?n=10000.
-        scene: String,
-        /// Equirectangular environment image (.hdr or .exr) replacing the scene's environment.
-        #[arg(long)]
-        env: Option<PathBuf>,
-        /// Multiplies the environment image's radiance.
-        #[arg(long, default_value_t = 1.0)]
-        env_strength: f32,
+        #[command(flatten)]
+        scene: SceneArgs,
     },
+    /// Render the converged ground truth with the CPU reference path tracer: an EXR (linear) and
+    /// a PNG (tonemapped) beside it, plus the EXR of an independent half of the samples.
+    Reference {
+        #[command(flatten)]
+        scene: SceneArgs,
+        /// Samples per pixel (at least 2).
+        #[arg(long, default_value_t = 256)]
+        spp: u32,
+        /// Image size, WxH.
+        #[arg(long, default_value = "256x256", value_parser = parse_size)]
+        size: (u32, u32),
+        /// Output file, .exr or .png (the other format is written beside it).
+        #[arg(long, default_value = "reference.exr")]
+        out: PathBuf,
+        /// Emission plus direct light at the first hit only.
+        #[arg(long)]
+        direct_only: bool,
+        /// Seed of the random streams.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        /// Worker threads (default: one per core).
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Most bounces per path (Russian roulette ends most paths well before).
+        #[arg(long, default_value_t = 64)]
+        max_depth: u32,
+    },
+}
+
+fn parse_size(text: &str) -> Result<(u32, u32), String> {
+    let (w, h) = text
+        .split_once('x')
+        .ok_or_else(|| format!("'{text}' is not WxH"))?;
+    match (w.parse::<u32>(), h.parse::<u32>()) {
+        (Ok(w), Ok(h)) if w > 0 && h > 0 && w <= 16384 && h <= 16384 => Ok((w, h)),
+        _ => Err(format!("'{text}' is not WxH with sides in 1..=16384")),
+    }
 }
 
 fn main() -> Result<()> {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
     match Cli::parse().command {
-        Command::Info {
+        Command::Info { scene } => info(&scene),
+        Command::Reference {
             scene,
-            env,
-            env_strength,
-        } => info(&scene, env, env_strength),
+            spp,
+            size,
+            out,
+            direct_only,
+            seed,
+            threads,
+            max_depth,
+        } => {
+            let path = PathSettings {
+                max_depth,
+                direct_only,
+                ..PathSettings::default()
+            };
+            let settings = RenderSettings {
+                width: size.0,
+                height: size.1,
+                spp,
+                seed,
+                threads,
+                path,
+            };
+            reference(&scene, &settings, &out)
+        }
     }
 }
 
-fn info(scene: &str, env: Option<PathBuf>, env_strength: f32) -> Result<()> {
+/// Loads the scene and applies the environment options.
+fn load(args: &SceneArgs) -> Result<World> {
     let mut world = World::new();
-    let start = Instant::now();
-    load_scene(&mut world, scene)?;
-    if let Some(path) = env {
-        let (environment, repairs) =
-            Environment::from_file(&path, env_strength).context("cannot load the environment")?;
-        for r in repairs {
-            log::warn!("{}: {r}", path.display());
-        }
+    load_scene(&mut world, &args.scene)?;
+    if let Some(env) = &args.env {
+        let environment = match parse_color(env) {
+            Some(color) => {
+                let mut environment = Environment::constant(color);
+                environment.strength = args.env_strength;
+                environment
+            }
+            None => {
+                let path = Path::new(env);
+                let (environment, repairs) = Environment::from_file(path, args.env_strength)?;
+                for r in repairs {
+                    log::warn!("{}: {r}", path.display());
+                }
+                environment
+            }
+        };
         world.insert_resource(environment);
     }
+    Ok(world)
+}
+
+/// `R,G,B` as a colour, if `text` is one.
+fn parse_color(text: &str) -> Option<Vec3> {
+    let parts: Vec<f32> = text
+        .split(',')
+        .map(|p| p.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .ok()?;
+    match parts[..] {
+        [r, g, b] if [r, g, b].iter().all(|c| c.is_finite() && *c >= 0.0) => {
+            Some(Vec3::new(r, g, b))
+        }
+        _ => None,
+    }
+}
+
+fn info(args: &SceneArgs) -> Result<()> {
+    let start = Instant::now();
+    let mut world = load(args)?;
     let elapsed = start.elapsed();
     let info = SceneInfo::gather(&mut world);
-    println!("scene: {scene}");
+    println!("scene: {}", args.scene);
     print!("{info}");
     println!("load time: {:.1} ms", elapsed.as_secs_f64() * 1e3);
+    Ok(())
+}
+
+fn reference(args: &SceneArgs, settings: &RenderSettings, out: &Path) -> Result<()> {
+    let (exr, png) = match out.extension().and_then(|e| e.to_str()) {
+        Some("exr") => (out.to_path_buf(), out.with_extension("png")),
+        Some("png") => (out.with_extension("exr"), out.to_path_buf()),
+        _ => bail!("{}: the output must end in .exr or .png", out.display()),
+    };
+    let mut world = load(args)?;
+    let output = render_world(&mut world, settings, true).context("cannot render")?;
+    write_exr(&exr, output.width, output.height, &output.image)?;
+    write_png(
+        &png,
+        output.width,
+        output.height,
+        &output.image,
+        Tonemapper::PbrNeutral,
+        1.0,
+    )?;
+    let half = exr.with_extension("half.exr");
+    write_exr(&half, output.width, output.height, &output.halves[0])?;
+    let seconds = output.elapsed.as_secs_f64();
+    println!(
+        "wrote {}, {} and {}",
+        exr.display(),
+        png.display(),
+        half.display()
+    );
+    println!(
+        "{}x{} at {} spp in {seconds:.2} s",
+        output.width, output.height, settings.spp
+    );
+    println!("paths/s: {:.0}", output.paths as f64 / seconds);
+    println!(
+        "relMSE between independent halves: {:.3e}",
+        output.halves_rel_mse()
+    );
+    if output.non_finite_samples > 0 {
+        log::warn!(
+            "{} non-finite samples were dropped",
+            output.non_finite_samples
+        );
+    }
     Ok(())
 }

@@ -1,0 +1,246 @@
+//! The path tracer: the rendering equation estimated by Monte Carlo along paths from the camera.
+//! At every vertex one light is picked by power and sampled (next-event estimation), the BRDF is
+//! importance-sampled for the next direction, and both strategies are combined with the power
+//! heuristic (Veach and Guibas 1995, "Optimally Combining Sampling Techniques for Monte Carlo
+//! Rendering"), so an emitter or the sky reached by a BRDF-sampled ray is weighted against the
+//! chance that light sampling would have found it. Delta lights and mirror bounces take their
+//! single strategy unweighted. Russian roulette (after a configurable depth) keeps the estimate
+//! unbiased by dividing the survivors' throughput by their survival probability.
+
+use chiaro_bvh::{Hit, Ray, offset_ray_origin};
+use chiaro_shading::brdf;
+use chiaro_shading::lights::{self, LightSample};
+use chiaro_shading::rng::Pcg32;
+use chiaro_shading::sampling::{power_heuristic, uniform_triangle};
+use glam::{Vec2, Vec3};
+
+use crate::light_table::LightEntry;
+use crate::scene::RenderScene;
+use crate::surface::{SurfaceHit, alpha_passes, emission_at, surface_at, uvs_at};
+
+/// How paths are traced.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PathSettings {
+    /// Most path vertices (bounces) followed. High by default: Russian roulette ends paths.
+    pub max_depth: u32,
+    /// Depth from which Russian roulette may end a path; `None` turns it off.
+    pub russian_roulette_from: Option<u32>,
+    /// Emission plus direct light at the first hit only (what the GPU direct pass computes).
+    pub direct_only: bool,
+}
+
+impl Default for PathSettings {
+    fn default() -> Self {
+        Self {
+            max_depth: 64,
+            russian_roulette_from: Some(3),
+            direct_only: false,
+        }
+    }
+}
+
+/// Fraction of the distance to a sampled light point that a shadow ray tests, so the emitter
+/// itself does not occlude its own sample.
+const SHADOW_RAY_REACH: f32 = 1.0 - 1e-4;
+
+/// The previous vertex, for MIS weights of emission found by BRDF sampling.
+#[derive(Clone, Copy)]
+struct Previous {
+    position: Vec3,
+    pdf: f32,
+    delta: bool,
+}
+
+/// Samples light `entry` from `p`.
+fn sample_light(scene: &RenderScene, entry: &LightEntry, p: Vec3, u: Vec2) -> Option<LightSample> {
+    match *entry {
+        LightEntry::Point {
+            position,
+            intensity,
+            range,
+        } => lights::sample_point(position, intensity, range, p),
+        LightEntry::Spot {
+            position,
+            axis,
+            intensity,
+            inner,
+            outer,
+            range,
+        } => lights::sample_spot(position, axis, intensity, inner, outer, range, p),
+        LightEntry::Directional {
+            travel,
+            illuminance,
+        } => Some(lights::sample_directional(travel, illuminance)),
+        LightEntry::Triangle {
+            instance,
+            triangle,
+            vertices: v,
+            two_sided,
+        } => {
+            let (b1, b2) = uniform_triangle(u);
+            let q = v[0] * (1.0 - b1 - b2) + v[1] * b1 + v[2] * b2;
+            let to_light = q - p;
+            let distance = to_light.length();
+            if distance <= 0.0 {
+                return None;
+            }
+            let wi = to_light / distance;
+            let facing = (v[1] - v[0]).cross(v[2] - v[0]).dot(-wi);
+            if facing <= 0.0 && !two_sided {
+                return None;
+            }
+            let record = &scene.bvh.instances()[instance as usize];
+            let mesh = scene.meshes.get(record.mesh)?;
+            let material = scene.materials.get(record.material)?;
+            // world_triangle swaps vertices 1 and 2 under a mirroring transform.
+            let mirrored = record.world.matrix3.determinant() < 0.0;
+            let b = if mirrored {
+                Vec3::new(1.0 - b1 - b2, b2, b1)
+            } else {
+                Vec3::new(1.0 - b1 - b2, b1, b2)
+            };
+            let radiance = emission_at(scene, material, uvs_at(mesh, triangle, b));
+            let pdf = lights::triangle_solid_angle_pdf(v, p, q);
+            (pdf > 0.0 && pdf.is_finite()).then_some(LightSample {
+                wi,
+                distance,
+                radiance,
+                pdf,
+                delta: false,
+            })
+        }
+        LightEntry::Environment => {
+            let (wi, radiance, pdf) = scene.environment.sample(u);
+            (pdf > 0.0).then_some(LightSample {
+                wi,
+                distance: f32::INFINITY,
+                radiance,
+                pdf,
+                delta: false,
+            })
+        }
+    }
+}
+
+/// Next-event estimate at `si`: one light picked by power, sampled, tested for visibility.
+fn direct_light(scene: &RenderScene, si: &SurfaceHit, wo: Vec3, rng: &mut Pcg32) -> Vec3 {
+    let accept = |h: &Hit| alpha_passes(scene, h);
+    let (u_pick, u) = (rng.next_f32(), rng.next_vec2());
+    let Some((index, pick)) = scene.lights.pick(u_pick) else {
+        return Vec3::ZERO;
+    };
+    let Some(ls) = sample_light(scene, &scene.lights.lights[index], si.position, u) else {
+        return Vec3::ZERO;
+    };
+    let wi = si.frame.to_local(ls.wi);
+    if wi.z <= 0.0 || ls.wi.dot(si.geometric_normal) <= 0.0 || ls.radiance == Vec3::ZERO {
+        return Vec3::ZERO;
+    }
+    let f = brdf::eval(&si.params, wo, wi) * wi.z;
+    if f == Vec3::ZERO {
+        return Vec3::ZERO;
+    }
+    let shadow = Ray {
+        origin: offset_ray_origin(si.position, si.geometric_normal),
+        direction: ls.wi,
+        t_min: 0.0,
+        t_max: if ls.distance.is_finite() {
+            ls.distance * SHADOW_RAY_REACH
+        } else {
+            f32::INFINITY
+        },
+    };
+    if scene.bvh.any_hit_with(&shadow, &accept) {
+        return Vec3::ZERO;
+    }
+    if ls.delta {
+        return f * ls.radiance / pick;
+    }
+    let light_pdf = pick * ls.pdf;
+    let weight = power_heuristic(1.0, light_pdf, 1.0, brdf::pdf(&si.params, wo, wi));
+    f * ls.radiance * weight / light_pdf
+}
+
+/// The MIS weight of emission reached by a BRDF-sampled ray whose light-sampling pdf is
+/// `light_pdf` (1 for camera rays and delta bounces).
+fn emission_weight(previous: Option<Previous>, light_pdf: impl FnOnce(Vec3) -> f32) -> f32 {
+    match previous {
+        None => 1.0,
+        Some(p) if p.delta => 1.0,
+        Some(p) => power_heuristic(1.0, p.pdf, 1.0, light_pdf(p.position)),
+    }
+}
+
+/// Radiance arriving along `ray` (a camera ray).
+pub fn radiance(
+    scene: &RenderScene,
+    mut ray: Ray,
+    rng: &mut Pcg32,
+    settings: &PathSettings,
+) -> Vec3 {
+    let accept = |h: &Hit| alpha_passes(scene, h);
+    let mut total = Vec3::ZERO;
+    let mut throughput = Vec3::ONE;
+    let mut previous: Option<Previous> = None;
+    for depth in 0..settings.max_depth {
+        let Some(hit) = scene.bvh.closest_hit_with(&ray, &accept) else {
+            let weight = emission_weight(previous, |_| {
+                scene.lights.environment_pmf() * scene.environment.pdf(ray.direction)
+            });
+            total += throughput * scene.environment.radiance(ray.direction) * weight;
+            break;
+        };
+        let si = surface_at(scene, &ray, &hit);
+        if si.emission != Vec3::ZERO {
+            let weight = emission_weight(previous, |from| {
+                let record = &scene.bvh.instances()[hit.instance as usize];
+                let mesh = scene.meshes.get(record.mesh).expect("stored mesh");
+                let v = crate::surface::world_triangle(mesh, hit.triangle, &record.world);
+                scene.lights.triangle_pmf(hit.instance, hit.triangle)
+                    * lights::triangle_solid_angle_pdf(v, from, si.position)
+            });
+            total += throughput * si.emission * weight;
+        }
+        if !si.shades || (settings.direct_only && depth == 1) {
+            break;
+        }
+        let wo = si.frame.to_local(-ray.direction);
+        total += throughput * direct_light(scene, &si, wo, rng);
+
+        let Some(sample) = brdf::sample(&si.params, wo, rng.next_f32(), rng.next_vec2()) else {
+            break;
+        };
+        throughput *= sample.weight;
+        if !throughput.is_finite() || throughput == Vec3::ZERO {
+            break;
+        }
+        let wi = si.frame.to_world(sample.wi);
+        let side = if wi.dot(si.geometric_normal) >= 0.0 {
+            si.geometric_normal
+        } else {
+            -si.geometric_normal
+        };
+        ray = Ray {
+            origin: offset_ray_origin(si.position, side),
+            direction: wi,
+            t_min: 0.0,
+            t_max: f32::INFINITY,
+        };
+        previous = Some(Previous {
+            position: si.position,
+            pdf: sample.pdf,
+            delta: sample.delta,
+        });
+
+        if let Some(from) = settings.russian_roulette_from
+            && depth + 1 >= from
+        {
+            let survive = throughput.max_element().clamp(0.05, 1.0);
+            if rng.next_f32() >= survive {
+                break;
+            }
+            throughput /= survive;
+        }
+    }
+    total
+}

@@ -1,0 +1,65 @@
+//! Writing renders: EXR for linear HDR, PNG tonemapped to sRGB.
+
+use std::path::Path;
+
+use chiaro_shading::color::linear_to_srgb;
+use chiaro_shading::tonemap::Tonemapper;
+use glam::Vec3;
+
+use crate::error::ReferenceError;
+
+fn write_error(path: &Path, e: impl std::fmt::Display) -> ReferenceError {
+    ReferenceError::Write {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    }
+}
+
+/// Writes linear RGB as a 32-bit float EXR.
+pub fn write_exr(
+    path: &Path,
+    width: u32,
+    height: u32,
+    pixels: &[Vec3],
+) -> Result<(), ReferenceError> {
+    let data: Vec<f32> = pixels.iter().flat_map(|p| p.to_array()).collect();
+    let image = image::Rgb32FImage::from_raw(width, height, data)
+        .ok_or_else(|| write_error(path, "pixel count does not match the size"))?;
+    image
+        .save_with_format(path, image::ImageFormat::OpenExr)
+        .map_err(|e| write_error(path, e))
+}
+
+/// Writes linear RGB tonemapped with `tonemapper` at `exposure`, sRGB-encoded, as an 8-bit PNG.
+pub fn write_png(
+    path: &Path,
+    width: u32,
+    height: u32,
+    pixels: &[Vec3],
+    tonemapper: Tonemapper,
+    exposure: f32,
+) -> Result<(), ReferenceError> {
+    let data: Vec<u8> = pixels
+        .iter()
+        .flat_map(|p| tonemapper.apply(*p, exposure).to_array())
+        .map(|c| (linear_to_srgb(c) * 255.0 + 0.5) as u8)
+        .collect();
+    let image = image::RgbImage::from_raw(width, height, data)
+        .ok_or_else(|| write_error(path, "pixel count does not match the size"))?;
+    image
+        .save_with_format(path, image::ImageFormat::Png)
+        .map_err(|e| write_error(path, e))
+}
+
+/// Reads an EXR back as linear RGB (for comparisons and tests).
+pub fn read_exr(path: &Path) -> Result<(u32, u32, Vec<Vec3>), ReferenceError> {
+    let image = image::open(path)
+        .map_err(|e| write_error(path, e))?
+        .into_rgb32f();
+    let (w, h) = image.dimensions();
+    Ok((
+        w,
+        h,
+        image.pixels().map(|p| Vec3::from_array(p.0)).collect(),
+    ))
+}

@@ -1,0 +1,101 @@
+//! Everything a render reads, gathered once from the World: the BVH, the shared assets, the
+//! light table, the environment and the camera.
+
+use bevy_ecs::prelude::*;
+use chiaro_bvh::SceneBvh;
+use chiaro_scene::{
+    ActiveCamera, Camera, Environment, EnvironmentSource, GlobalTransform, Material, Materials,
+    Meshes, Textures,
+};
+use chiaro_shading::lights::EnvironmentLight;
+
+use crate::camera::CameraRays;
+use crate::error::ReferenceError;
+use crate::light_table::LightTable;
+
+/// A scene ready to be path traced; borrows the World's assets.
+pub struct RenderScene<'w> {
+    /// The BVH over every instance.
+    pub bvh: SceneBvh,
+    /// Mesh data.
+    pub meshes: &'w Meshes,
+    /// Materials.
+    pub materials: &'w Materials,
+    /// Textures.
+    pub textures: &'w Textures,
+    /// Used where an instance names a missing material.
+    pub default_material: Material,
+    /// The lights.
+    pub lights: LightTable,
+    /// The environment as a light.
+    pub environment: EnvironmentLight,
+    /// The camera.
+    pub camera: CameraRays,
+}
+
+/// The environment resource as a light (black when absent).
+fn environment_light(world: &World) -> EnvironmentLight {
+    let Some(env) = world.get_resource::<Environment>() else {
+        return EnvironmentLight::constant(glam::Vec3::ZERO);
+    };
+    match &env.source {
+        EnvironmentSource::Constant(c) => EnvironmentLight::constant(*c * env.strength),
+        EnvironmentSource::Equirect(image) => EnvironmentLight::new(
+            &image.texels,
+            image.width as usize,
+            image.height as usize,
+            env.strength,
+            env.rotation,
+        ),
+    }
+}
+
+/// Builds the BVH and light table of `world` (propagating transforms first). Call
+/// [`RenderScene::new`] with the result.
+pub fn prepare(world: &mut World) -> (SceneBvh, LightTable) {
+    let bvh = SceneBvh::build(world);
+    let mean = world
+        .get_resource::<Environment>()
+        .map_or(glam::Vec3::ZERO, Environment::mean_radiance);
+    let lights = LightTable::gather(world, &bvh, mean);
+    (bvh, lights)
+}
+
+impl<'w> RenderScene<'w> {
+    /// The scene of `world` seen by its active camera, for a `width` x `height` image.
+    pub fn new(
+        world: &'w World,
+        (bvh, lights): (SceneBvh, LightTable),
+        width: u32,
+        height: u32,
+    ) -> Result<Self, ReferenceError> {
+        let active = world
+            .get_resource::<ActiveCamera>()
+            .ok_or(ReferenceError::NoCamera)?;
+        let entity = world
+            .get_entity(active.0)
+            .map_err(|_| ReferenceError::NoCamera)?;
+        let (Some(camera), Some(global)) =
+            (entity.get::<Camera>(), entity.get::<GlobalTransform>())
+        else {
+            return Err(ReferenceError::NoCamera);
+        };
+        let (Some(meshes), Some(materials), Some(textures)) = (
+            world.get_resource::<Meshes>(),
+            world.get_resource::<Materials>(),
+            world.get_resource::<Textures>(),
+        ) else {
+            return Err(ReferenceError::NoScene);
+        };
+        Ok(Self {
+            bvh,
+            meshes,
+            materials,
+            textures,
+            default_material: Material::default(),
+            lights,
+            environment: environment_light(world),
+            camera: CameraRays::new(camera, global, width, height),
+        })
+    }
+}

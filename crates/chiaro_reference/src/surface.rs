@@ -1,0 +1,183 @@
+//! What a ray hit: position, normals (geometric, interpolated, normal-mapped), UVs, and the
+//! material evaluated there (textures included), in the form the BRDF and the lights take.
+//!
+//! Conventions: a triangle's front face is counter-clockwise, reversed when the instance's world
+//! matrix has a negative determinant (glTF's rule). A back face of a single-sided material
+//! absorbs everything (as a rasterizer culling it would show nothing behind it either).
+
+use chiaro_bvh::{Hit, Ray};
+use chiaro_scene::{AlphaMode, Material, Mesh};
+use chiaro_shading::brdf::SurfaceParams;
+use chiaro_shading::frame::Frame;
+use glam::{Vec2, Vec3, Vec4};
+
+use crate::scene::RenderScene;
+use crate::texture_sampling::sample_slot;
+
+/// The shading data at a hit.
+#[derive(Clone, Debug)]
+pub struct SurfaceHit {
+    /// World position.
+    pub position: Vec3,
+    /// Unit geometric normal on the side the ray arrived from.
+    pub geometric_normal: Vec3,
+    /// Shading frame (interpolated and normal-mapped normal), on the same side.
+    pub frame: Frame,
+    /// False for the back face of a single-sided material: nothing is reflected or emitted.
+    pub shades: bool,
+    /// The BRDF parameters there.
+    pub params: SurfaceParams,
+    /// Radiance emitted toward the ray's origin.
+    pub emission: Vec3,
+}
+
+/// The three world-space vertices of `triangle` of `mesh` under `world`, reordered so that
+/// their counter-clockwise normal is the front face's even under a mirroring transform.
+pub fn world_triangle(mesh: &Mesh, triangle: u32, world: &glam::Affine3A) -> [Vec3; 3] {
+    let i = triangle as usize * 3;
+    let idx = &mesh.indices()[i..i + 3];
+    let p = [0, 1, 2].map(|k| world.transform_point3(mesh.positions()[idx[k] as usize]));
+    if world.matrix3.determinant() < 0.0 {
+        [p[0], p[2], p[1]]
+    } else {
+        p
+    }
+}
+
+fn interpolate<T>(values: &[T], idx: &[u32], b: Vec3) -> T
+where
+    T: Copy + std::ops::Mul<f32, Output = T> + std::ops::Add<Output = T>,
+{
+    values[idx[0] as usize] * b.x + values[idx[1] as usize] * b.y + values[idx[2] as usize] * b.z
+}
+
+/// The UVs (sets 0 and 1) at barycentrics `b` of `triangle`.
+pub fn uvs_at(mesh: &Mesh, triangle: u32, b: Vec3) -> [Option<Vec2>; 2] {
+    let i = triangle as usize * 3;
+    let idx = &mesh.indices()[i..i + 3];
+    [
+        mesh.uv(0).map(|uv| interpolate(uv, idx, b)),
+        mesh.uv(1).map(|uv| interpolate(uv, idx, b)),
+    ]
+}
+
+fn barycentrics(hit: &Hit) -> Vec3 {
+    Vec3::new(
+        1.0 - hit.barycentrics.x - hit.barycentrics.y,
+        hit.barycentrics.x,
+        hit.barycentrics.y,
+    )
+}
+
+/// Emitted radiance of `material` at UVs `uvs` (factor x strength x emissive texture).
+pub fn emission_at(scene: &RenderScene, material: &Material, uvs: [Option<Vec2>; 2]) -> Vec3 {
+    let texture = material
+        .emissive_texture
+        .as_ref()
+        .and_then(|slot| sample_slot(scene.textures, slot, uvs))
+        .map_or(Vec3::ONE, |t| t.truncate());
+    material.emitted_radiance() * texture
+}
+
+/// False when an alpha-masked material is cut away at this hit: the ray passes through.
+pub fn alpha_passes(scene: &RenderScene, hit: &Hit) -> bool {
+    let record = &scene.bvh.instances()[hit.instance as usize];
+    let Some(material) = scene.materials.get(record.material) else {
+        return true;
+    };
+    let AlphaMode::Mask { cutoff } = material.alpha_mode else {
+        return true;
+    };
+    let Some(mesh) = scene.meshes.get(record.mesh) else {
+        return true;
+    };
+    let texture_alpha = material
+        .base_color_texture
+        .as_ref()
+        .and_then(|slot| {
+            sample_slot(
+                scene.textures,
+                slot,
+                uvs_at(mesh, hit.triangle, barycentrics(hit)),
+            )
+        })
+        .map_or(1.0, |t| t.w);
+    material.base_color.w * texture_alpha >= cutoff
+}
+
+/// Evaluates the surface at `hit` of `ray`.
+pub fn surface_at(scene: &RenderScene, ray: &Ray, hit: &Hit) -> SurfaceHit {
+    let record = &scene.bvh.instances()[hit.instance as usize];
+    let mesh = scene
+        .meshes
+        .get(record.mesh)
+        .expect("the BVH only holds stored meshes");
+    let material = scene
+        .materials
+        .get(record.material)
+        .unwrap_or(&scene.default_material);
+    let b = barycentrics(hit);
+    let i = hit.triangle as usize * 3;
+    let idx = &mesh.indices()[i..i + 3];
+    let position = ray.origin + ray.direction * hit.t;
+
+    let v = world_triangle(mesh, hit.triangle, &record.world);
+    let geometric_front = (v[1] - v[0]).cross(v[2] - v[0]).normalize_or(Vec3::Z);
+    let front_facing = ray.direction.dot(geometric_front) < 0.0;
+    let mirror_sign = record.world.matrix3.determinant().signum();
+    let normal_matrix = record.inverse.matrix3.transpose();
+    let mut shading_front =
+        (normal_matrix * interpolate(mesh.normals(), idx, b)).normalize_or(geometric_front);
+
+    let uvs = uvs_at(mesh, hit.triangle, b);
+    let sample = |slot: &Option<chiaro_scene::TextureRef>| {
+        slot.as_ref()
+            .and_then(|s| sample_slot(scene.textures, s, uvs))
+            .unwrap_or(Vec4::ONE)
+    };
+    if let (Some(slot), Some(tangents)) = (&material.normal_texture, mesh.tangents())
+        && let Some(texel) = sample_slot(scene.textures, slot, uvs)
+    {
+        let t = interpolate(tangents, idx, b);
+        let tangent = record.world.matrix3 * t.truncate();
+        let tangent = (tangent - shading_front * shading_front.dot(tangent)).normalize_or_zero();
+        if tangent != Vec3::ZERO {
+            let bitangent = shading_front.cross(tangent) * t.w.signum() * mirror_sign;
+            let m = (texel.truncate() * 2.0 - Vec3::ONE)
+                * Vec3::new(material.normal_scale, material.normal_scale, 1.0);
+            shading_front =
+                (tangent * m.x + bitangent * m.y + shading_front * m.z).normalize_or(shading_front);
+        }
+    }
+
+    let side = if front_facing { 1.0 } else { -1.0 };
+    let geometric_normal = geometric_front * side;
+    let mut shading_normal = shading_front * side;
+    if shading_normal.dot(-ray.direction) <= 0.0 {
+        shading_normal = geometric_normal;
+    }
+    let shades = front_facing || material.double_sided;
+
+    let base = sample(&material.base_color_texture);
+    let metallic_roughness = sample(&material.metallic_roughness_texture);
+    let params = SurfaceParams {
+        base_color: material.base_color.truncate() * base.truncate(),
+        metallic: (material.metallic * metallic_roughness.z).clamp(0.0, 1.0),
+        roughness: (material.roughness * metallic_roughness.y).clamp(0.0, 1.0),
+        f0_dielectric: material.dielectric_f0(),
+        absorption: material.absorption,
+    };
+    let emission = if shades {
+        emission_at(scene, material, uvs)
+    } else {
+        Vec3::ZERO
+    };
+    SurfaceHit {
+        position,
+        geometric_normal,
+        frame: Frame::from_normal(shading_normal),
+        shades,
+        params,
+        emission,
+    }
+}

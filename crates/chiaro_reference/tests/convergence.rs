@@ -1,0 +1,210 @@
+//! The reference converges to known answers: the white furnace, a point light over a Lambertian
+//! plane (closed form), noise falling as 1/spp, Russian roulette unbiased, and images that do not
+//! depend on the thread count.
+
+use bevy_ecs::world::World;
+use chiaro_reference::{PathSettings, RenderOutput, RenderSettings, render_world};
+use chiaro_scene::builtin::shapes::floor;
+use chiaro_scene::{
+    Camera, Light, LightKind, Material, Node, Projection, SceneBuilder, Transform, load_scene,
+};
+use glam::Vec3;
+
+fn render(spec: &str, settings: RenderSettings) -> RenderOutput {
+    let mut world = World::new();
+    load_scene(&mut world, spec).unwrap();
+    render_world(&mut world, &settings, false).unwrap()
+}
+
+fn mean(image: &[Vec3]) -> f64 {
+    image.iter().map(|p| (p.x + p.y + p.z) as f64).sum::<f64>() / (3 * image.len()) as f64
+}
+
+/// Standard error of the image mean, from the spread between the two independent halves:
+/// Var(pixel) = E[(half0 - half1)^2] / 4 for the full image (equal-size halves).
+fn standard_error(out: &RenderOutput) -> f64 {
+    let [a, b] = &out.halves;
+    let sum: f64 = a
+        .iter()
+        .zip(b)
+        .map(|(x, y)| {
+            let d = (*x - *y) / 3.0;
+            ((d.x + d.y + d.z) as f64).powi(2) / 4.0
+        })
+        .sum();
+    sum.sqrt() / a.len() as f64
+}
+
+#[test]
+fn furnace_converges_to_one() {
+    let out = render(
+        "builtin:furnace",
+        RenderSettings {
+            width: 16,
+            height: 16,
+            spp: 32,
+            ..RenderSettings::default()
+        },
+    );
+    let (m, se) = (mean(&out.image), standard_error(&out));
+    assert_eq!(out.non_finite_samples, 0);
+    assert!(
+        (m - 1.0).abs() < 4.0 * se + 1e-3,
+        "mean {m}, standard error {se}"
+    );
+    assert!(se < 0.02, "standard error {se}");
+}
+
+/// A Lambertian plane (albedo 0.5, no specular: IOR 1) lit by a point light of intensity I at
+/// height h, seen straight down by an orthographic camera. Nothing else is visible and the plane
+/// cannot see itself, so the radiance at a point at distance d from the light is exactly
+/// (albedo / pi) * I * h / d^3.
+#[test]
+fn point_light_over_a_plane_matches_the_closed_form() {
+    let (albedo, intensity, height, half_view) = (0.5f32, 10.0f32, 2.0f32, 2.0f32);
+    let mut b = SceneBuilder::new("point light over a plane");
+    let mut plane = Material::diffuse("plane", Vec3::splat(albedo), 1.0);
+    plane.ior = 1.0;
+    let material = b.add_material(plane);
+    let mesh = b.add_mesh("mesh", "plane", floor(20.0)).unwrap().unwrap();
+    b.add_instance("plane", mesh, material, Transform::IDENTITY);
+    b.add_node(Node {
+        name: Some("light".into()),
+        transform: Transform::from_translation(Vec3::new(0.0, height, 0.0)),
+        light: Some(Light {
+            kind: LightKind::Point,
+            color: Vec3::ONE,
+            intensity,
+            range: None,
+        }),
+        ..Node::default()
+    });
+    b.add_node(Node {
+        name: Some("camera".into()),
+        transform: Transform::looking_at(Vec3::new(0.0, 5.0, 0.0), Vec3::ZERO, Vec3::NEG_Z),
+        camera: Some(Camera {
+            projection: Projection::Orthographic {
+                xmag: half_view,
+                ymag: half_view,
+                znear: 0.0,
+                zfar: 10.0,
+            },
+        }),
+        ..Node::default()
+    });
+    let mut world = World::new();
+    b.spawn(&mut world);
+    let n = 16u32;
+    let settings = RenderSettings {
+        width: n,
+        height: n,
+        spp: 1024,
+        ..RenderSettings::default()
+    };
+    let out = render_world(&mut world, &settings, false).unwrap();
+
+    // Camera right is +X, up is -Z: pixel (x, y) covers world x in [-2, 2] left to right and
+    // z in [-2, 2] top to bottom. Average the closed form over each pixel on a fine grid.
+    let pixel = 2.0 * half_view / n as f32;
+    let mut worst = 0.0f32;
+    for y in 0..n {
+        for x in 0..n {
+            let mut expected = 0.0;
+            let sub = 8;
+            for sy in 0..sub {
+                for sx in 0..sub {
+                    let wx = -half_view + (x as f32 + (sx as f32 + 0.5) / sub as f32) * pixel;
+                    let wz = -half_view + (y as f32 + (sy as f32 + 0.5) / sub as f32) * pixel;
+                    let d = (wx * wx + wz * wz + height * height).sqrt();
+                    expected += albedo / std::f32::consts::PI * intensity * height / d.powi(3);
+                }
+            }
+            expected /= (sub * sub) as f32;
+            let got = out.image[(y * n + x) as usize];
+            for c in 0..3 {
+                worst = worst.max((got[c] - expected).abs() / expected);
+            }
+        }
+    }
+    assert!(worst < 0.01, "largest relative error {worst}");
+}
+
+#[test]
+fn noise_between_halves_falls_as_one_over_spp() {
+    // relMSE between halves divides by a noisy half: at a few samples per half that inflates it
+    // (and a pixel on an emitter's edge that sees the light in one half only dominates it), so
+    // the decade starts at 64 spp, on a scene whose emitters are out of view.
+    let settings = |spp| RenderSettings {
+        width: 12,
+        height: 12,
+        spp,
+        seed: 7,
+        ..RenderSettings::default()
+    };
+    let low = render("builtin:hard-cases?case=lit-group", settings(64)).halves_rel_mse();
+    let high = render("builtin:hard-cases?case=lit-group", settings(640)).halves_rel_mse();
+    let slope = (high / low).log10();
+    assert!(
+        (slope + 1.0).abs() <= 0.1,
+        "log-log slope {slope} (relMSE {low} at 64 spp, {high} at 640)"
+    );
+}
+
+#[test]
+fn russian_roulette_leaves_the_mean_unchanged() {
+    let path = |rr| PathSettings {
+        max_depth: 12,
+        russian_roulette_from: rr,
+        direct_only: false,
+    };
+    let settings = |rr| RenderSettings {
+        width: 16,
+        height: 16,
+        spp: 32,
+        path: path(rr),
+        ..RenderSettings::default()
+    };
+    let with = render("builtin:cornell", settings(Some(2)));
+    let without = render("builtin:cornell", settings(None));
+    let (a, b) = (mean(&with.image), mean(&without.image));
+    let se = (standard_error(&with).powi(2) + standard_error(&without).powi(2)).sqrt();
+    assert!(
+        (a - b).abs() < 4.0 * se,
+        "with RR {a}, without {b}, standard error {se}"
+    );
+}
+
+#[test]
+fn image_does_not_depend_on_the_thread_count() {
+    let settings = |threads| RenderSettings {
+        width: 20,
+        height: 12,
+        spp: 4,
+        threads: Some(threads),
+        ..RenderSettings::default()
+    };
+    let one = render("builtin:hard-cases?case=spheres", settings(1));
+    let two = render("builtin:hard-cases?case=spheres", settings(2));
+    assert_eq!(one.image, two.image);
+    assert_eq!(one.non_finite_samples, 0);
+}
+
+#[test]
+fn direct_only_is_at_most_the_full_estimate_and_differs_in_the_cornell_box() {
+    let settings = |direct_only| RenderSettings {
+        width: 16,
+        height: 16,
+        spp: 16,
+        path: PathSettings {
+            direct_only,
+            ..PathSettings::default()
+        },
+        ..RenderSettings::default()
+    };
+    let direct = mean(&render("builtin:cornell", settings(true)).image);
+    let full = mean(&render("builtin:cornell", settings(false)).image);
+    assert!(
+        direct > 0.0 && direct < full * 0.9,
+        "direct {direct}, full {full}"
+    );
+}
