@@ -3,7 +3,9 @@
 //! (scaled here to metres), camera at (278, 273, -800) looking +Z with a 35 mm lens on a 25 mm
 //! film. Reflectances and light radiance are the RGB values commonly used for it in physically
 //! based renderers (white 0.725/0.71/0.68, red 0.63/0.065/0.05, green 0.14/0.45/0.091, light
-//! 17/12/4). The light quad sits 0.5 mm under the ceiling so the two never coincide.
+//! 17/12/4). The surfaces are measured as diffuse, so they are pure Lambertian here (IOR 1: F0 = 0,
+//! no specular lobe), which also lets any diffuse renderer reproduce the box exactly. The light
+//! quad sits 0.5 mm under the ceiling so the two never coincide.
 
 use glam::Vec3;
 
