@@ -50,7 +50,7 @@ impl SceneBvh {
             .iter(world)
             .map(|(e, mi, gt)| (e, *mi, gt.0))
             .collect();
-        bvh.rebuild_tlas(items);
+        bvh.rebuild_instances(items);
         bvh
     }
 
@@ -221,8 +221,20 @@ impl SceneBvh {
         (b - a).cross(c - a).try_normalize()
     }
 
+    /// Rebuilds the TLAS tree over the current instances (same records and indices, fresh
+    /// binned-SAH tree), as [`crate::update_scene_bvh`] does when updates have degraded it.
+    pub fn rebuild_tlas(&mut self) {
+        self.tlas = Tlas::build(&self.bounds);
+    }
+
+    /// SAH cost of the TLAS: summed inner-node area over the root's (the expected number of
+    /// inner nodes a ray through the root visits). Updates that degrade the tree raise it.
+    pub fn tlas_cost(&self) -> f64 {
+        self.tlas.cost()
+    }
+
     /// Rebuilds the TLAS over `items` (entity, instance, world matrix), re-checking each.
-    pub(crate) fn rebuild_tlas(&mut self, mut items: Vec<(Entity, MeshInstance, Affine3A)>) {
+    pub(crate) fn rebuild_instances(&mut self, mut items: Vec<(Entity, MeshInstance, Affine3A)>) {
         items.sort_by_key(|(e, _, _)| *e);
         let previous = std::mem::take(&mut self.left_out);
         self.instances.clear();

@@ -69,7 +69,7 @@ pub fn update_scene_bvh(
     };
     let removed: Vec<Entity> = removed.read().filter(|e| !all.contains(*e)).collect();
     let work = if fresh {
-        target.rebuild_tlas(all.iter().map(item).collect());
+        target.rebuild_instances(all.iter().map(item).collect());
         TlasWork::Rebuilt
     } else {
         let changed = changed.iter().map(item).collect();

@@ -78,7 +78,7 @@ impl SceneBvh {
             }
         }
         if rebuild {
-            self.rebuild_tlas(all());
+            self.rebuild_instances(all());
             return TlasWork::Rebuilt;
         }
         if moved.is_empty() {
