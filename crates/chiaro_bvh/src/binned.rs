@@ -18,7 +18,7 @@ use glam::Vec3;
 /// Bins per axis.
 const BINS: usize = 16;
 /// Levels of SAH splitting before median splits take over.
-pub(crate) const SAH_DEPTH_LIMIT: u32 = 48;
+pub const SAH_DEPTH_LIMIT: u32 = 48;
 /// SAH cost of visiting a node, relative to testing one primitive.
 const TRAVERSAL_COST: f64 = 1.0;
 

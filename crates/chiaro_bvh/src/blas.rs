@@ -1,44 +1,53 @@
-//! Bottom-level BVHs: one binary BVH per mesh, in object space, shared by every instance of the
-//! mesh.
+//! Bottom-level BVHs: one per mesh, in object space, shared by every instance of the mesh.
 //!
-//! Built with obvhs's PLOC builder (Meister and Bittner, "Parallel Locally-Ordered Clustering for
-//! Bounding Volume Hierarchy Construction", IEEE TVCG 2018) followed by its reinsertion
-//! optimisation and SAH leaf collapsing, then copied into chiaro's own flat [`BvhNode`] /
-//! [`BvhTriangle`] layout with the boxes recomputed exactly from the vertices. Traversal is
-//! chiaro's: a robust padded slab test ([`crate::slab`]) and the watertight triangle test
-//! ([`crate::watertight`]).
+//! Built with obvhs: its PLOC builder (Meister and Bittner, "Parallel Locally-Ordered
+//! Clustering for Bounding Volume Hierarchy Construction", IEEE TVCG 2018) and reinsertion
+//! optimisation make a binary BVH, which obvhs turns into a compressed wide BVH (CWBVH, eight
+//! children per 80-byte node, at most three triangles per leaf). The triangles are copied in the
+//! CWBVH's leaf order. Traversal is chiaro's ([`crate::wide`]): obvhs's CWBVH child ordering with
+//! a conservative box test and the watertight triangle test ([`crate::watertight`]).
 //!
 //! PLOC turns quadratic when many primitives share a centroid (measured: 20,000 identical boxes
-//! take 14.7 s at the medium preset, 4x per doubling); a mesh where more than
-//! [`CROWD_LIMIT`] triangles fall in one cell of PLOC's 21-bit Morton grid is built with
-//! [`crate::binned`] instead. A tree deeper than the traversal stack (never seen in practice)
-//! is rebuilt the same way.
-
-use std::time::Duration;
+//! take 14.7 s at the medium preset, 4x per doubling); a mesh where more than [`CROWD_LIMIT`]
+//! triangles fall in one cell of PLOC's 21-bit Morton grid gets its binary BVH from
+//! [`crate::binned`] instead. obvhs's CWBVH conversion recurses once per level, so a binary BVH
+//! deeper than [`MAX_BINARY_DEPTH`] (never seen in practice) is also rebuilt that way.
 
 use chiaro_scene::{Aabb, Mesh};
 use glam::{Vec3, Vec3A};
-use obvhs::{BvhBuildParams, bvh2::builder::build_bvh2_from_tris, triangle::Triangle};
+use obvhs::aabb::Aabb as ObvhsAabb;
+use obvhs::bvh2::Bvh2;
+use obvhs::bvh2::node::Bvh2Node;
+use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
+use obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh;
+use obvhs::cwbvh::node::CwBvhNode;
+use obvhs::ploc::{PlocBuilder, PlocSearchDistance, SortPrecision};
+use obvhs::triangle::Triangle;
 
 use crate::binned;
-use crate::layout::{BvhNode, BvhTriangle};
+use crate::layout::BvhTriangle;
 use crate::object_ray::ObjectRay;
 use crate::watertight::TriangleHit;
+use crate::wide::{self, NodeRay};
 
 /// Largest coordinate a triangle may have to enter a BLAS (as in chiaro_scene's validation);
 /// obvhs panics on boxes whose area overflows `f32` (measured: from about 2e19).
 pub const MAX_BLAS_COORDINATE: f32 = 1.0e18;
 /// Triangles sharing one Morton cell above which obvhs's PLOC is not used.
 pub const CROWD_LIMIT: usize = 256;
-/// Traversal stack entries; trees deeper than this are rebuilt with the binned builder.
-pub(crate) const STACK_SIZE: usize = 128;
-/// Most triangles per leaf.
-const MAX_LEAF: u32 = 4;
+/// Deepest binary BVH handed to obvhs's (recursive) CWBVH conversion; also bounds the CWBVH's
+/// depth, and so the traversal stack ([`crate::wide`]).
+pub const MAX_BINARY_DEPTH: usize = wide::STACK_SIZE;
+/// Most triangles per CWBVH leaf (the format's limit).
+const MAX_LEAF: u32 = 3;
+/// PLOC preset: obvhs's "medium" (search distance 14 below the top 3 levels, 5% reinsertion).
+const SEARCH_DEPTH_THRESHOLD: usize = 3;
+const REINSERTION_RATIO: f32 = 0.05;
 
-/// Which builder made a BLAS.
+/// Which builder made a BLAS's binary BVH.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum BlasBuilder {
-    /// obvhs PLOC + reinsertion + leaf collapsing.
+    /// obvhs PLOC + reinsertion.
     Obvhs,
     /// chiaro's binned SAH builder (crowded meshes).
     Binned,
@@ -55,10 +64,10 @@ pub(crate) enum Candidate {
     Stop,
 }
 
-/// The BVH of one mesh.
+/// The BVH of one mesh: a CWBVH over its triangles.
 #[derive(Clone, Debug)]
 pub struct Blas {
-    pub(crate) nodes: Vec<BvhNode>,
+    pub(crate) nodes: Vec<CwBvhNode>,
     pub(crate) triangles: Vec<BvhTriangle>,
     /// For each mesh triangle, its slot in `triangles` (`u32::MAX` if it was left out).
     pub(crate) slot_of: Vec<u32>,
@@ -92,149 +101,57 @@ impl Blas {
                 mesh.name()
             );
         }
-        Self::from_triangles(tris, mesh.triangle_count())
+        Self::from_triangles(&tris, mesh.triangle_count())
     }
 
     /// Builds over `tris` (already checked), `mesh_triangles` being the mesh's triangle count.
-    pub(crate) fn from_triangles(tris: Vec<BvhTriangle>, mesh_triangles: usize) -> Self {
-        let crowded = max_cell_population(&tris) > CROWD_LIMIT;
-        let mut blas = if crowded {
-            Self::with_binned(&tris)
-        } else {
-            Self::with_obvhs(&tris)
-        };
-        if blas.depth as usize > STACK_SIZE {
-            log::warn!(
-                "BLAS of {} triangles is {} levels deep: rebuilt with the binned builder",
-                tris.len(),
-                blas.depth
-            );
-            blas = Self::with_binned(&tris);
-        }
-        blas.slot_of = vec![u32::MAX; mesh_triangles];
-        for (slot, t) in blas.triangles.iter().enumerate() {
-            blas.slot_of[t.triangle as usize] = slot as u32;
-        }
-        blas.refit();
-        blas
-    }
-
-    fn empty(builder: BlasBuilder) -> Self {
-        Self {
-            nodes: Vec::new(),
-            triangles: Vec::new(),
-            slot_of: Vec::new(),
-            bounds: Aabb::EMPTY,
-            magnitude: 0.0,
-            depth: 0,
-            builder,
-        }
-    }
-
-    fn with_obvhs(tris: &[BvhTriangle]) -> Self {
-        let mut blas = Self::empty(BlasBuilder::Obvhs);
-        if tris.is_empty() {
-            return blas;
-        }
-        let input: Vec<Triangle> = tris
-            .iter()
-            .map(|t| {
-                let [v0, v1, v2] = t.vertices().map(Vec3A::from);
-                Triangle { v0, v1, v2 }
-            })
-            .collect();
-        let params = BvhBuildParams {
-            max_prims_per_leaf: MAX_LEAF,
-            ..BvhBuildParams::medium_build()
-        };
-        let mut build_time = Duration::ZERO;
-        let bvh = build_bvh2_from_tris(&input, params, &mut build_time);
-        // Copy the reachable tree depth first; children of a node stay adjacent.
-        blas.nodes.push(BvhNode::default());
-        let mut stack = vec![(0usize, 0usize, 1u32)];
-        while let Some((old, new, level)) = stack.pop() {
-            blas.depth = blas.depth.max(level);
-            let node = &bvh.nodes[old];
-            if node.is_leaf() {
-                let first = blas.triangles.len() as u32;
-                let prims =
-                    &bvh.primitive_indices[node.first_index as usize..][..node.prim_count as usize];
-                blas.triangles
-                    .extend(prims.iter().map(|&p| tris[p as usize]));
-                blas.nodes[new] = BvhNode {
-                    first,
-                    count: node.prim_count,
-                    ..BvhNode::default()
-                };
+    pub(crate) fn from_triangles(tris: &[BvhTriangle], mesh_triangles: usize) -> Self {
+        let mut builder = BlasBuilder::Obvhs;
+        let mut binary = None;
+        if max_cell_population(tris) <= CROWD_LIMIT {
+            let bvh = ploc(tris);
+            let depth = binary_depth(&bvh);
+            if depth <= MAX_BINARY_DEPTH {
+                binary = Some(bvh);
             } else {
-                let child = blas.nodes.len();
-                blas.nodes.push(BvhNode::default());
-                blas.nodes.push(BvhNode::default());
-                blas.nodes[new].first = child as u32;
-                stack.push((node.first_index as usize + 1, child + 1, level + 1));
-                stack.push((node.first_index as usize, child, level + 1));
+                log::warn!(
+                    "BVH of {} triangles is {depth} levels deep: rebuilt with the binned builder",
+                    tris.len()
+                );
             }
         }
-        blas
-    }
-
-    fn with_binned(tris: &[BvhTriangle]) -> Self {
-        let mut blas = Self::empty(BlasBuilder::Binned);
-        let boxes: Vec<Aabb> = tris
-            .iter()
-            .map(|t| Aabb::from_points(t.vertices()))
-            .collect();
-        let tree = binned::build(&boxes, MAX_LEAF as usize);
-        blas.triangles = tree.order.iter().map(|&i| tris[i as usize]).collect();
-        blas.nodes = tree
-            .nodes
-            .iter()
-            .map(|n| BvhNode {
-                first: n.first,
-                count: n.count,
-                ..BvhNode::default()
-            })
-            .collect();
-        blas.depth = tree.depth;
-        blas
-    }
-
-    /// Recomputes every box exactly from the vertices (children have larger indices than their
-    /// parents in both builders' output), and the bounds and magnitude.
-    fn refit(&mut self) {
-        for i in (0..self.nodes.len()).rev() {
-            let node = self.nodes[i];
-            let b = if node.is_leaf() {
-                self.triangles[node.first as usize..][..node.count as usize]
-                    .iter()
-                    .fold(Aabb::EMPTY, |b, t| {
-                        t.vertices().into_iter().fold(b, Aabb::including)
-                    })
-            } else {
-                let f = node.first as usize;
-                debug_assert!(f > i);
-                let (l, r) = (&self.nodes[f], &self.nodes[f + 1]);
-                Aabb {
-                    min: Vec3::from_array(l.min).min(Vec3::from_array(r.min)),
-                    max: Vec3::from_array(l.max).max(Vec3::from_array(r.max)),
-                }
-            };
-            self.nodes[i].min = b.min.to_array();
-            self.nodes[i].max = b.max.to_array();
-        }
-        self.bounds = self.nodes.first().map_or(Aabb::EMPTY, |n| Aabb {
-            min: Vec3::from_array(n.min),
-            max: Vec3::from_array(n.max),
+        let binary = binary.unwrap_or_else(|| {
+            builder = BlasBuilder::Binned;
+            binned_bvh2(tris)
         });
-        self.magnitude = if self.bounds.is_empty() {
+        let cwbvh = bvh2_to_cwbvh(&binary, MAX_LEAF, true, false);
+        let triangles: Vec<BvhTriangle> = cwbvh
+            .primitive_indices
+            .iter()
+            .map(|&p| tris[p as usize])
+            .collect();
+        let mut slot_of = vec![u32::MAX; mesh_triangles];
+        for (slot, t) in triangles.iter().enumerate() {
+            slot_of[t.triangle as usize] = slot as u32;
+        }
+        let bounds = triangles.iter().fold(Aabb::EMPTY, |b, t| {
+            t.vertices().into_iter().fold(b, Aabb::including)
+        });
+        let magnitude = if bounds.is_empty() {
             0.0
         } else {
-            self.bounds
-                .min
-                .abs()
-                .max(self.bounds.max.abs())
-                .max_element()
+            bounds.min.abs().max(bounds.max.abs()).max_element()
         };
+        let depth = wide::depth(&cwbvh.nodes) as u32;
+        Self {
+            nodes: cwbvh.nodes,
+            triangles,
+            slot_of,
+            bounds,
+            magnitude,
+            depth,
+            builder,
+        }
     }
 
     /// Object-space bounds (empty for a BLAS without triangles).
@@ -252,12 +169,12 @@ impl Blas {
         self.nodes.len()
     }
 
-    /// Levels of the tree, root included.
+    /// Levels of the CWBVH, root included.
     pub fn depth(&self) -> u32 {
         self.depth
     }
 
-    /// Which builder made it.
+    /// Which builder made its binary BVH.
     pub fn builder(&self) -> BlasBuilder {
         self.builder
     }
@@ -275,8 +192,9 @@ impl Blas {
         self.triangles.get(slot as usize).map(BvhTriangle::vertices)
     }
 
-    /// Nodes, root first.
-    pub fn nodes(&self) -> &[BvhNode] {
+    /// CWBVH nodes, root first (obvhs's [`CwBvhNode`] layout: `primitive_base_idx` indexes
+    /// [`Blas::triangles`]).
+    pub fn nodes(&self) -> &[CwBvhNode] {
         &self.nodes
     }
 
@@ -285,8 +203,8 @@ impl Blas {
         &self.triangles
     }
 
-    /// Visits every triangle the ray hits in `(t_min, *t_max)`, nearest boxes first, shrinking
-    /// `*t_max` on each accepted candidate. Returns true when `on_hit` stopped the traversal.
+    /// Visits every triangle the ray hits in `(t_min, *t_max)`, shrinking `*t_max` on each
+    /// accepted candidate. Returns true when `on_hit` stopped the traversal.
     #[inline]
     pub(crate) fn traverse<F>(
         &self,
@@ -298,74 +216,77 @@ impl Blas {
     where
         F: FnMut(u32, TriangleHit) -> Candidate,
     {
-        let Some(root) = self.nodes.first() else {
-            return false;
-        };
-        let boxes = &ray.boxes;
-        let origins = boxes.padded_origins(ray.pad(self.magnitude));
-        if boxes
-            .entry(root.lo(), root.hi(), origins, t_min, *t_max)
-            .is_infinite()
-        {
-            return false;
-        }
-        let mut stack = [(0u32, 0f32); STACK_SIZE];
-        let mut top = 0usize;
-        let mut node = root;
-        loop {
-            if node.is_leaf() {
-                for tri in &self.triangles[node.first as usize..][..node.count as usize] {
-                    let [v0, v1, v2] = tri.vertices();
-                    if let Some(hit) = ray.watertight.intersect(v0, v1, v2, t_min, *t_max) {
-                        match on_hit(tri.triangle, hit) {
-                            Candidate::Reject => {}
-                            Candidate::Accept => *t_max = hit.t,
-                            Candidate::Stop => return true,
-                        }
-                    }
-                }
-            } else {
-                let first = node.first as usize;
-                let (left, right) = (&self.nodes[first], &self.nodes[first + 1]);
-                let t_left = boxes.entry(left.lo(), left.hi(), origins, t_min, *t_max);
-                let t_right = boxes.entry(right.lo(), right.hi(), origins, t_min, *t_max);
-                match (t_left.is_finite(), t_right.is_finite()) {
-                    (true, true) => {
-                        let (near, far, t_far) = if t_left <= t_right {
-                            (left, first + 1, t_right)
-                        } else {
-                            (right, first, t_left)
-                        };
-                        stack[top] = (far as u32, t_far);
-                        top += 1;
-                        node = near;
-                        continue;
-                    }
-                    (true, false) => {
-                        node = left;
-                        continue;
-                    }
-                    (false, true) => {
-                        node = right;
-                        continue;
-                    }
-                    (false, false) => {}
-                }
-            }
-            // Pop the next subtree still in reach.
-            loop {
-                if top == 0 {
-                    return false;
-                }
-                top -= 1;
-                let (index, t_entry) = stack[top];
-                if t_entry < *t_max {
-                    node = &self.nodes[index as usize];
-                    break;
-                }
-            }
+        let node_ray = NodeRay::new(ray.origin, ray.direction, ray.pad(self.magnitude));
+        wide::traverse(
+            &self.nodes,
+            &self.triangles,
+            &node_ray,
+            &ray.watertight,
+            t_min,
+            t_max,
+            on_hit,
+        )
+    }
+}
+
+/// obvhs's binary BVH over `tris`: PLOC (medium search) and reinsertion.
+fn ploc(tris: &[BvhTriangle]) -> Bvh2 {
+    let input: Vec<Triangle> = tris
+        .iter()
+        .map(|t| {
+            let [v0, v1, v2] = t.vertices().map(Vec3A::from);
+            Triangle { v0, v1, v2 }
+        })
+        .collect();
+    let mut bvh = PlocBuilder::with_capacity(input.len()).build(
+        PlocSearchDistance::Medium,
+        &input,
+        (0..input.len() as u32).collect(),
+        SortPrecision::U64,
+        SEARCH_DEPTH_THRESHOLD,
+    );
+    ReinsertionOptimizer::default().run(&mut bvh, REINSERTION_RATIO, None);
+    bvh
+}
+
+/// chiaro's binned SAH tree over `tris`, in obvhs's binary BVH type (one triangle per leaf).
+fn binned_bvh2(tris: &[BvhTriangle]) -> Bvh2 {
+    let boxes: Vec<Aabb> = tris
+        .iter()
+        .map(|t| Aabb::from_points(t.vertices()))
+        .collect();
+    let tree = binned::build(&boxes, 1);
+    debug_assert!(tree.depth as usize <= MAX_BINARY_DEPTH, "{}", tree.depth);
+    Bvh2 {
+        nodes: tree
+            .nodes
+            .iter()
+            .map(|n| {
+                let aabb = ObvhsAabb::new(n.bounds.min.into(), n.bounds.max.into());
+                Bvh2Node::new(aabb, n.count, n.first)
+            })
+            .collect(),
+        primitive_indices: tree.order,
+        ..Bvh2::default()
+    }
+}
+
+/// Levels of a binary BVH, walked iteratively.
+fn binary_depth(bvh: &Bvh2) -> usize {
+    let mut deepest = 0;
+    let mut stack = Vec::new();
+    if !bvh.nodes.is_empty() {
+        stack.push((0usize, 1usize));
+    }
+    while let Some((i, level)) = stack.pop() {
+        deepest = deepest.max(level);
+        let node = &bvh.nodes[i];
+        if !node.is_leaf() {
+            stack.push((node.first_index as usize, level + 1));
+            stack.push((node.first_index as usize + 1, level + 1));
         }
     }
+    deepest
 }
 
 /// The most triangles whose centroids share one cell of a 2^21-per-axis grid over the
@@ -420,30 +341,33 @@ mod tests {
         .0
     }
 
+    /// Every triangle is in exactly one leaf, inside that leaf's (dequantised) box.
     fn check_boxes(blas: &Blas) {
-        let mut seen = vec![false; blas.triangles.len()];
+        let mut seen = vec![0; blas.triangles.len()];
         let mut stack = vec![0usize];
         while let Some(i) = stack.pop() {
-            let n = blas.nodes[i];
-            let b = Aabb {
-                min: Vec3::from_array(n.min),
-                max: Vec3::from_array(n.max),
-            };
-            if n.is_leaf() {
-                for (k, t) in blas.triangles[n.first as usize..][..n.count as usize]
-                    .iter()
-                    .enumerate()
-                {
-                    seen[n.first as usize + k] = true;
-                    for v in t.vertices() {
-                        assert_eq!(b.including(v), b);
+            let n = &blas.nodes[i];
+            for child in 0..8 {
+                if n.is_child_empty(child) {
+                    continue;
+                }
+                if !n.is_leaf(child) {
+                    stack.push(n.child_node_index(child) as usize);
+                    continue;
+                }
+                let b = n.child_aabb(child);
+                let slack = 1e-6 * blas.magnitude.max(1.0);
+                let (first, count) = n.child_primitives(child);
+                for slot in first..first + count {
+                    seen[slot as usize] += 1;
+                    for v in blas.triangles[slot as usize].vertices() {
+                        let v = Vec3A::from(v);
+                        assert!(v.cmpge(b.min - slack).all() && v.cmple(b.max + slack).all());
                     }
                 }
-            } else {
-                stack.extend([n.first as usize, n.first as usize + 1]);
             }
         }
-        assert!(seen.into_iter().all(|s| s));
+        assert!(seen.into_iter().all(|s| s == 1));
     }
 
     #[test]
@@ -453,6 +377,7 @@ mod tests {
         assert_eq!((blas.node_count(), blas.triangle_count()), (1, 1));
         assert_eq!(blas.triangle(0), Some([Vec3::ZERO, Vec3::X, Vec3::Y]));
         assert_eq!(blas.builder(), BlasBuilder::Obvhs);
+        check_boxes(&blas);
 
         let n = 40u32;
         let positions = (0..=n)
@@ -475,7 +400,7 @@ mod tests {
 
     #[test]
     fn crowded_meshes_use_the_binned_builder() {
-        // 2,000 copies of one triangle: obvhs would take quadratic time.
+        // 2,000 copies of one triangle: obvhs's PLOC would take quadratic time.
         let positions = vec![Vec3::ZERO, Vec3::X, Vec3::Y];
         let indices = (0..2000).flat_map(|_| [0, 1, 2]).collect();
         let blas = Blas::build(&mesh(positions, indices));

@@ -1,11 +1,15 @@
 //! Flat buffers of a [`SceneBvh`] for a GPU traversal, in the same records the CPU traverses
-//! ([`BvhNode`], [`TlasNode`], [`BvhTriangle`]) plus one [`GpuInstance`] per instance.
+//! (obvhs's [`CwBvhNode`], [`TlasNode`], [`BvhTriangle`]) plus one [`GpuInstance`] per instance.
 //!
 //! Layout of [`GpuBvhBuffers`] (each field one storage buffer):
 //!
-//! - `blas_nodes`: every BLAS's nodes, concatenated. Indices are global: an inner node's
-//!   children are `blas_nodes[first]` and `blas_nodes[first + 1]`; a leaf's triangles are
-//!   `triangles[first..first + count]`.
+//! - `blas_nodes`: every BLAS's CWBVH nodes (80 bytes each, Ylitie et al. 2017, in obvhs's
+//!   field order: `p: vec3<f32>`, `e: 3 x u8`, `imask: u8`, `child_base_idx: u32`,
+//!   `primitive_base_idx: u32`, then `child_meta`, `child_min_x`, `child_max_x`, `child_min_y`,
+//!   `child_max_y`, `child_min_z`, `child_max_z` as 8 x u8 each), concatenated, with
+//!   `child_base_idx` and `primitive_base_idx` made global: inner children index `blas_nodes`,
+//!   leaf triangles index `triangles`. In WGSL read a node as 20 `u32` words; `p` is not
+//!   16-byte aligned, so it cannot be a `vec3<f32>` member of a WGSL struct.
 //! - `triangles`: every BLAS's triangles, concatenated, object-space vertices, with the mesh
 //!   triangle index in `triangle`.
 //! - `tlas_nodes`: the TLAS, root at 0 (empty when there are no instances). An inner node's
@@ -30,7 +34,9 @@
 use bytemuck::{Pod, Zeroable};
 use glam::Affine3A;
 
-use crate::layout::{BvhNode, BvhTriangle, TlasNode};
+use obvhs::cwbvh::node::CwBvhNode;
+
+use crate::layout::{BvhTriangle, TlasNode};
 use crate::scene_bvh::SceneBvh;
 
 /// One instance as the GPU reads it.
@@ -61,7 +67,7 @@ fn rows(m: &Affine3A) -> [[f32; 4]; 3] {
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct GpuBvhBuffers {
     /// All BLAS nodes, global indices.
-    pub blas_nodes: Vec<BvhNode>,
+    pub blas_nodes: Vec<CwBvhNode>,
     /// All BLAS triangles.
     pub triangles: Vec<BvhTriangle>,
     /// The TLAS nodes.
@@ -86,15 +92,12 @@ impl GpuBvhBuffers {
             let node_base = out.blas_nodes.len() as u32;
             let triangle_base = out.triangles.len() as u32;
             root_of[mesh] = node_base;
-            out.blas_nodes.extend(blas.nodes().iter().map(|n| BvhNode {
-                first: n.first
-                    + if n.is_leaf() {
-                        triangle_base
-                    } else {
-                        node_base
-                    },
-                ..*n
-            }));
+            out.blas_nodes
+                .extend(blas.nodes().iter().map(|n| CwBvhNode {
+                    child_base_idx: n.child_base_idx + node_base,
+                    primitive_base_idx: n.primitive_base_idx + triangle_base,
+                    ..*n
+                }));
             out.triangles.extend_from_slice(blas.triangles());
         }
         out.tlas_nodes = bvh.tlas.nodes.clone();
@@ -148,7 +151,7 @@ mod tests {
         assert_eq!(gpu.instances.len(), bvh.instances().len());
         assert_eq!(gpu.tlas_nodes.len(), 2 * gpu.instances.len() - 1);
         let bytes: &[u8] = bytemuck::cast_slice(&gpu.blas_nodes);
-        assert_eq!(bytes.len(), 32 * gpu.blas_nodes.len());
+        assert_eq!(bytes.len(), 80 * gpu.blas_nodes.len());
         for inst in &gpu.instances {
             // Walk the instance's BLAS and check every triangle matches the CPU's.
             let blas = bvh.blas(chiaro_scene::MeshId(inst.mesh)).unwrap();
@@ -156,13 +159,16 @@ mod tests {
             let mut stack = vec![inst.blas_root as usize];
             while let Some(i) = stack.pop() {
                 let n = gpu.blas_nodes[i];
-                if n.is_leaf() {
-                    for t in &gpu.triangles[n.first as usize..][..n.count as usize] {
-                        assert_eq!(Some(t.vertices()), blas.triangle(t.triangle));
-                        seen += 1;
+                for child in (0..8).filter(|&c| !n.is_child_empty(c)) {
+                    if n.is_leaf(child) {
+                        let (first, count) = n.child_primitives(child);
+                        for t in &gpu.triangles[first as usize..][..count as usize] {
+                            assert_eq!(Some(t.vertices()), blas.triangle(t.triangle));
+                            seen += 1;
+                        }
+                    } else {
+                        stack.push(n.child_node_index(child) as usize);
                     }
-                } else {
-                    stack.extend([n.first as usize, n.first as usize + 1]);
                 }
             }
             assert_eq!(seen, blas.triangle_count());

@@ -2,11 +2,10 @@
 //! free of implicit padding, and the CPU traverses exactly these records, so the GPU copy made by
 //! [`crate::GpuBvhBuffers`] is the same bytes with indices offset, not a translation.
 //!
-//! All three are 16-byte aligned so that a WGSL struct of `vec3<f32>` + `u32` pairs mirrors them
-//! field for field:
+//! BLAS nodes are obvhs's `CwBvhNode` (see [`crate::gpu`]). The two records here are 16-byte
+//! aligned so that a WGSL struct of `vec3<f32>` + `u32` pairs mirrors them field for field:
 //!
 //! ```wgsl
-//! struct BvhNode  { min: vec3<f32>, first: u32, max: vec3<f32>, count: u32 }    // 32 bytes
 //! struct TlasNode { min: vec3<f32>, child: u32, max: vec3<f32>, kappa: f32 }    // 32 bytes
 //! struct Triangle { v0: vec3<f32>, triangle: u32, v1: vec3<f32>, pad0: u32,
 //!                   v2: vec3<f32>, pad1: u32 }                                  // 48 bytes
@@ -17,42 +16,6 @@ use glam::{Vec3, Vec3A};
 
 /// Set in [`TlasNode::child`] when the node is a leaf; the low bits are then the instance index.
 pub const TLAS_LEAF_BIT: u32 = 1 << 31;
-
-/// A node of a bottom-level BVH (a binary tree over one mesh's triangles).
-///
-/// An inner node (`count == 0`) has its two children at `first` and `first + 1` in the same
-/// node array; a leaf (`count > 0`) holds triangles `first..first + count` of the triangle array.
-/// The box is the exact bounds of everything below (no rounding: coordinates are copied).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-#[repr(C, align(16))]
-pub struct BvhNode {
-    /// Box minimum corner.
-    pub min: [f32; 3],
-    /// First child node (inner) or first triangle (leaf).
-    pub first: u32,
-    /// Box maximum corner.
-    pub max: [f32; 3],
-    /// Number of triangles; 0 for an inner node.
-    pub count: u32,
-}
-
-impl BvhNode {
-    /// True for a leaf.
-    #[inline(always)]
-    pub fn is_leaf(&self) -> bool {
-        self.count != 0
-    }
-
-    #[inline(always)]
-    pub(crate) fn lo(&self) -> Vec3A {
-        Vec3A::from_array(self.min)
-    }
-
-    #[inline(always)]
-    pub(crate) fn hi(&self) -> Vec3A {
-        Vec3A::from_array(self.max)
-    }
-}
 
 /// A node of the top-level BVH (a binary tree over instances, one instance per leaf).
 ///
@@ -142,10 +105,6 @@ mod tests {
 
     #[test]
     fn layouts_are_as_documented() {
-        assert_eq!((size_of::<BvhNode>(), align_of::<BvhNode>()), (32, 16));
-        assert_eq!(offset_of!(BvhNode, first), 12);
-        assert_eq!(offset_of!(BvhNode, max), 16);
-        assert_eq!(offset_of!(BvhNode, count), 28);
         assert_eq!((size_of::<TlasNode>(), align_of::<TlasNode>()), (32, 16));
         assert_eq!(offset_of!(TlasNode, kappa), 28);
         assert_eq!(

@@ -8,14 +8,15 @@
 use glam::{Affine3A, Vec3};
 
 use crate::ray::Ray;
-use crate::slab::{BLAS_PAD_ULPS, BoxRay};
+use crate::slab::BLAS_PAD_ULPS;
 use crate::watertight::WatertightRay;
 
 /// A ray prepared for one BLAS traversal.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct ObjectRay {
+    pub origin: Vec3,
+    pub direction: Vec3,
     pub watertight: WatertightRay,
-    pub boxes: BoxRay,
     origin_magnitude: f32,
 }
 
@@ -27,11 +28,11 @@ impl ObjectRay {
         if !origin.is_finite() || !direction.is_finite() || direction.abs().max_element() == 0.0 {
             return None;
         }
-        let boxes = BoxRay::new(origin, direction);
         Some(Self {
+            origin,
+            direction,
             watertight: WatertightRay::new(origin, direction),
-            origin_magnitude: boxes.origin_magnitude(),
-            boxes,
+            origin_magnitude: origin.abs().max_element(),
         })
     }
 

@@ -1,4 +1,5 @@
-//! The conservative ray/box test every traversal uses.
+//! The conservative ray/box test of the TLAS traversal, and the padding rules the BLAS
+//! traversal's child-box test ([`crate::wide`]) follows too.
 //!
 //! It is the slab test with the rounding bound of Ize, "Robust BVH Ray Traversal", Journal of
 //! Computer Graphics Techniques 2(2), 2013: the exit distance is scaled up by `1 + 2 gamma(3)` so
