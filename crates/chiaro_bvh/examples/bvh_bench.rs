@@ -233,10 +233,60 @@ fn tlas_scaling() {
             cost
         );
     }
+    coincident();
     println!(
         "(build: SceneBvh::rebuild_tlas; move: update_scene_bvh's own time to move one instance by 0.3, \
          far move: to the mirrored grid position, median of 20 each; frame: propagate_transforms + \
          update_scene_bvh; add: spawning one instance, a full rebuild through the system)\n"
+    );
+}
+
+/// 40,000 instances of one sphere, all at the origin: obvhs's PLOC would take about a minute.
+fn coincident() {
+    let mut world = World::new();
+    let mesh = world
+        .get_resource_or_init::<Meshes>()
+        .add(Mesh::new("sphere", icosphere(1, false)).unwrap().0);
+    let instance = MeshInstance {
+        mesh,
+        material: MaterialId(0),
+    };
+    world.spawn_batch((0..40_000).map(|_| (instance, Transform::IDENTITY)));
+    let mut schedule = schedule();
+    let first = time(|| schedule.run(&mut world)).1;
+    let builds: Vec<f64> = (0..5)
+        .map(|_| {
+            let mut bvh = world.resource_mut::<SceneBvh>();
+            ms(time(|| bvh.rebuild_tlas()).1)
+        })
+        .collect();
+    let entities: Vec<Entity> = world
+        .resource::<SceneBvh>()
+        .instances()
+        .iter()
+        .map(|r| r.entity)
+        .collect();
+    let mut moves = Vec::new();
+    for k in 0..21 {
+        world
+            .get_mut::<Transform>(entities[k * 1000])
+            .unwrap()
+            .translation
+            .x += 0.3;
+        schedule.run(&mut world);
+        moves.push(world.resource::<BvhStats>().last_work_seconds * 1e6);
+    }
+    println!(
+        "{:>7} {:>12.2} {:>12} {:>12.1} {:>12} {:>12} {:>12} {:>12.1}   <- 40,000 at the origin (first system run {:.1} ms)",
+        "40000",
+        median(builds),
+        "(~60 s)",
+        median(moves),
+        "",
+        "",
+        "",
+        world.resource::<SceneBvh>().tlas_cost(),
+        ms(first)
     );
 }
 

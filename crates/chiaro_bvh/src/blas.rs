@@ -76,6 +76,7 @@ pub struct Blas {
     pub(crate) magnitude: f32,
     pub(crate) depth: u32,
     pub(crate) builder: BlasBuilder,
+    pub(crate) fingerprint: u64,
 }
 
 impl Blas {
@@ -101,7 +102,46 @@ impl Blas {
                 mesh.name()
             );
         }
-        Self::from_triangles(&tris, mesh.triangle_count())
+        let mut blas = Self::from_triangles(&tris, mesh.triangle_count());
+        blas.fingerprint = Self::fingerprint_of(mesh);
+        blas
+    }
+
+    /// A cheap fingerprint of a mesh (FNV-1a over its name, vertex and index counts, and 64
+    /// positions and 64 indices sampled evenly): what [`crate::update_scene_bvh`] compares to
+    /// notice a mesh replaced under an id that already has a BLAS. Edits that keep all of these
+    /// go unnoticed; add an edited mesh as a new one.
+    pub fn fingerprint_of(mesh: &Mesh) -> u64 {
+        let mut hash = 0xcbf2_9ce4_8422_2325u64;
+        let mut eat = |word: u32| {
+            for byte in word.to_le_bytes() {
+                hash = (hash ^ u64::from(byte)).wrapping_mul(0x0100_0000_01b3);
+            }
+        };
+        for chunk in mesh.name().as_bytes().chunks(4) {
+            let mut word = [0u8; 4];
+            word[..chunk.len()].copy_from_slice(chunk);
+            eat(u32::from_le_bytes(word));
+        }
+        let (positions, indices) = (mesh.positions(), mesh.indices());
+        eat(positions.len() as u32);
+        eat(indices.len() as u32);
+        for k in 0..64 {
+            if let Some(p) = positions.get(k * positions.len() / 64) {
+                for c in p.to_array() {
+                    eat(c.to_bits());
+                }
+            }
+            if let Some(&i) = indices.get(k * indices.len() / 64) {
+                eat(i);
+            }
+        }
+        hash
+    }
+
+    /// The fingerprint of the mesh this BLAS was built from (see [`Blas::fingerprint_of`]).
+    pub fn fingerprint(&self) -> u64 {
+        self.fingerprint
     }
 
     /// Builds over `tris` (already checked), `mesh_triangles` being the mesh's triangle count.
@@ -151,6 +191,7 @@ impl Blas {
             magnitude,
             depth,
             builder,
+            fingerprint: 0,
         }
     }
 

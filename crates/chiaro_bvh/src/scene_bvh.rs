@@ -43,7 +43,7 @@ impl SceneBvh {
         }
         let mut bvh = Self::default();
         if let Some(meshes) = world.get_resource::<Meshes>() {
-            bvh.build_new_blases(meshes);
+            bvh.sync_blases(meshes);
         }
         let mut query = world.query::<(Entity, &MeshInstance, &GlobalTransform)>();
         let items = query
@@ -54,20 +54,29 @@ impl SceneBvh {
         bvh
     }
 
-    /// Builds a BLAS for every mesh of `meshes` that has none yet; returns how many were built.
-    pub(crate) fn build_new_blases(&mut self, meshes: &Meshes) -> u64 {
-        let mut built = 0;
-        if self.blases.len() < meshes.len() {
-            self.blases.resize_with(meshes.len(), || None);
+    /// Brings the BLASes in line with `meshes`: builds one for every mesh without, rebuilds those
+    /// whose mesh no longer matches their fingerprint, drops those of ids past the end. Returns
+    /// how many were built and whether any existing one was replaced or dropped (the TLAS must
+    /// then be rebuilt).
+    pub(crate) fn sync_blases(&mut self, meshes: &Meshes) -> (u64, bool) {
+        let (mut built, mut replaced) = (0, false);
+        if self.blases.len() > meshes.len() {
+            self.blases.truncate(meshes.len());
+            replaced = true;
         }
+        self.blases.resize_with(meshes.len(), || None);
         for (id, mesh) in meshes.iter() {
             let slot = &mut self.blases[id.0 as usize];
-            if slot.is_none() {
+            let stale = slot
+                .as_ref()
+                .is_some_and(|b| b.fingerprint() != Blas::fingerprint_of(mesh));
+            if slot.is_none() || stale {
                 *slot = Some(Blas::build(mesh));
                 built += 1;
+                replaced |= stale;
             }
         }
-        built
+        (built, replaced)
     }
 
     /// The BLAS of `mesh`, if built.

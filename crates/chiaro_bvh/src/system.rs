@@ -30,8 +30,9 @@ pub struct BvhStats {
 
 /// Keeps [`SceneBvh`] current; run it after [`propagate_transforms`] (see [`add_bvh_systems`]).
 ///
-/// - When [`Meshes`] changed, builds a BLAS for each mesh id that has none yet (never again for
-///   the same id: a mesh replaced in place under its old id keeps its old BLAS).
+/// - When [`Meshes`] changed, builds a BLAS for each mesh id that has none yet, and rebuilds
+///   the BLAS of a mesh that no longer matches it (a replaced `Meshes` store, or a mesh replaced
+///   in place; see [`crate::Blas::fingerprint`] for what is compared), then rebuilds the TLAS.
 /// - When an instance was added or removed, or became traceable or untraceable, rebuilds the
 ///   TLAS; when instances only moved (`Changed<GlobalTransform>`) or had their `MeshInstance`
 ///   edited, updates records and refits.
@@ -63,12 +64,12 @@ pub fn update_scene_bvh(
         None => &mut created,
     };
 
-    let built = match &meshes {
-        Some(m) if fresh || m.is_changed() => target.build_new_blases(m),
-        _ => 0,
+    let (built, replaced) = match &meshes {
+        Some(m) if fresh || m.is_changed() => target.sync_blases(m),
+        _ => (0, false),
     };
     let removed: Vec<Entity> = removed.read().filter(|e| !all.contains(*e)).collect();
-    let work = if fresh {
+    let work = if fresh || replaced {
         target.rebuild_instances(all.iter().map(item).collect());
         TlasWork::Rebuilt
     } else {

@@ -270,3 +270,44 @@ fn far_moves_reinsert_and_scattering_many_rebuilds() {
         );
     }
 }
+
+#[test]
+fn a_replaced_meshes_store_rebuilds_everything() {
+    let (mut app, _, cubes) = ten_cubes();
+    let before = app.run();
+    // A new store whose mesh 0 is a big sphere instead of the cube.
+    let mut meshes = Meshes::default();
+    meshes.add(Mesh::new("ball", icosphere(2, false)).unwrap().0);
+    app.world.insert_resource(meshes);
+    let after = app.run();
+    assert_eq!(after.blas_builds, before.blas_builds + 1);
+    assert_eq!(after.tlas_builds, before.tlas_builds + 1);
+    // The sphere has radius 1 where the cube had half-width 0.5.
+    let hit = app
+        .bvh()
+        .closest_hit(&Ray::new(Vec3::new(0.0, 10.0, 0.0), Vec3::NEG_Y))
+        .unwrap();
+    assert!((hit.t - 9.0).abs() < 0.01, "{}", hit.t);
+    assert_eq!(app.hit_below(0.0), Some(cubes[0]));
+    assert_eq!(app.run(), after);
+
+    // A mesh replaced in place under its id is noticed too.
+    let tall = Mesh::new(
+        "tall",
+        cuboid(Vec3::new(-0.5, 0.0, -0.5), Vec3::new(0.5, 5.0, 0.5)),
+    )
+    .unwrap()
+    .0;
+    *app.world
+        .resource_mut::<Meshes>()
+        .get_mut(MeshId(0))
+        .unwrap() = tall;
+    let edited = app.run();
+    assert_eq!(edited.blas_builds, after.blas_builds + 1);
+    assert_eq!(edited.tlas_builds, after.tlas_builds + 1);
+    let hit = app
+        .bvh()
+        .closest_hit(&Ray::new(Vec3::new(0.0, 10.0, 0.0), Vec3::NEG_Y))
+        .unwrap();
+    assert_eq!(hit.t, 5.0);
+}
