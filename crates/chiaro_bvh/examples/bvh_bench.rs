@@ -345,7 +345,7 @@ fn rate_parallel(rays: &[Ray], f: impl Fn(&Ray) -> bool + Sync) -> f64 {
 
 fn traversal() {
     println!(
-        "== Traversal (Mrays/s; camera rays 512 x 512, then one diffuse bounce and one shadow ray per hit) =="
+        "== Traversal (Mrays/s; camera rays 512 x 512, then per hit one diffuse bounce and one shadow ray towards a sun) =="
     );
     println!(
         "{:<34} {:>10} {:>9} {:>9} {:>9} {:>9} {:>12}",
@@ -373,7 +373,7 @@ fn traversal() {
         let primary = camera_rays(&mut world, 512);
         let (primary_rate, _) = rate(&primary, |r| bvh.closest_hit(r).is_some());
         let mut rng = Rng(1);
-        let light = bvh.bounds().center() + Vec3::Y * bvh.bounds().size().y * 0.45;
+        let sun = Vec3::new(0.3, 1.0, 0.5).normalize();
         let (mut bounce, mut shadow) = (Vec::new(), Vec::new());
         for r in &primary {
             let Some(hit) = bvh.closest_hit(r) else {
@@ -385,7 +385,10 @@ fn traversal() {
             let o = offset_ray_origin(p, n);
             let d = (n + rng.unit_vector()).normalize_or(n);
             bounce.push(Ray::new(o, d));
-            shadow.push(Ray::new(o, light - o).with_interval(0.0, 1.0));
+            shadow.push(Ray::new(
+                offset_ray_origin(p, if n.dot(sun) > 0.0 { n } else { -n }),
+                sun,
+            ));
         }
         let (bounce_rate, bounce_hits) = rate(&bounce, |r| bvh.closest_hit(r).is_some());
         let (shadow_rate, _) = rate(&shadow, |r| bvh.any_hit(r));

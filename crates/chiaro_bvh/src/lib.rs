@@ -11,7 +11,8 @@
 //!   obvhs's CWBVH, 2.60 for obvhs's BVH2 and 2.24 for chiaro's earlier robust BVH2 traversal (one core,
 //!   incoherent rays, 327,680 triangles; `examples/bvh_bench.rs`).
 //! - **TLAS** ([`SceneBvh`]): chiaro's binned SAH builder (obvhs's builder is quadratic on
-//!   coincident instances), refit in place when instances move, rebuilt when instances come or
+//!   coincident instances); a moved instance is re-inserted where it now belongs (many moved at
+//!   once: one refit pass), and the tree is rebuilt when instances come or
 //!   go. Rays enter each instance's object space through its inverse matrix, direction not
 //!   normalised so `t` is shared by all instances.
 //! - **Exact answers**: every triangle test is the watertight test of Woop, Benthin and Wald
@@ -58,6 +59,8 @@
 //! assert_eq!((stats.tlas_builds, stats.tlas_updates), (1, 0), "nothing changed the second time");
 //! assert!(world.resource::<SceneBvh>().closest_hit(&Ray::new(center, Vec3::NEG_Y)).is_some());
 //! ```
+
+#![warn(missing_docs)]
 
 pub mod binned;
 pub mod blas;

@@ -1,10 +1,13 @@
 //! [`SceneBvh`]: every mesh's BLAS and the TLAS over the instances, and the ray queries.
 
 use std::collections::HashMap;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use bevy_ecs::prelude::*;
 use bevy_ecs::system::RunSystemOnce;
-use chiaro_scene::{Aabb, GlobalTransform, MeshId, MeshInstance, Meshes, propagate_transforms};
+use chiaro_scene::{
+    Aabb, GlobalTransform, Mesh, MeshId, MeshInstance, Meshes, propagate_transforms,
+};
 use glam::{Affine3A, Vec2, Vec3};
 
 use crate::blas::{Blas, Candidate};
@@ -59,24 +62,27 @@ impl SceneBvh {
     /// how many were built and whether any existing one was replaced or dropped (the TLAS must
     /// then be rebuilt).
     pub(crate) fn sync_blases(&mut self, meshes: &Meshes) -> (u64, bool) {
-        let (mut built, mut replaced) = (0, false);
+        let mut replaced = false;
         if self.blases.len() > meshes.len() {
             self.blases.truncate(meshes.len());
             replaced = true;
         }
         self.blases.resize_with(meshes.len(), || None);
+        let mut todo = Vec::new();
         for (id, mesh) in meshes.iter() {
-            let slot = &mut self.blases[id.0 as usize];
-            let stale = slot
-                .as_ref()
-                .is_some_and(|b| b.fingerprint() != Blas::fingerprint_of(mesh));
-            if slot.is_none() || stale {
-                *slot = Some(Blas::build(mesh));
-                built += 1;
-                replaced |= stale;
+            match &self.blases[id.0 as usize] {
+                None => todo.push((id, mesh)),
+                Some(b) if b.fingerprint() != Blas::fingerprint_of(mesh) => {
+                    replaced = true;
+                    todo.push((id, mesh));
+                }
+                Some(_) => {}
             }
         }
-        (built, replaced)
+        for (id, blas) in build_blases(&todo) {
+            self.blases[id.0 as usize] = Some(blas);
+        }
+        (todo.len() as u64, replaced)
     }
 
     /// The BLAS of `mesh`, if built.
@@ -267,6 +273,39 @@ impl SceneBvh {
         }
         self.tlas = Tlas::build(&self.bounds);
     }
+}
+
+/// Builds the BLASes of `meshes`, on as many threads as there are cores when there is more
+/// than one mesh (each BLAS build is single-threaded).
+fn build_blases(meshes: &[(MeshId, &Mesh)]) -> Vec<(MeshId, Blas)> {
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .min(meshes.len());
+    if threads <= 1 {
+        return meshes.iter().map(|(id, m)| (*id, Blas::build(m))).collect();
+    }
+    // Largest first, handed out one at a time, so a big mesh does not finish last alone.
+    let mut order: Vec<usize> = (0..meshes.len()).collect();
+    order.sort_by_key(|&i| std::cmp::Reverse(meshes[i].1.triangle_count()));
+    let next = AtomicUsize::new(0);
+    std::thread::scope(|scope| {
+        let workers: Vec<_> = (0..threads)
+            .map(|_| {
+                scope.spawn(|| {
+                    let mut built = Vec::new();
+                    while let Some(&i) = order.get(next.fetch_add(1, Ordering::Relaxed)) {
+                        let (id, mesh) = meshes[i];
+                        built.push((id, Blas::build(mesh)));
+                    }
+                    built
+                })
+            })
+            .collect();
+        workers
+            .into_iter()
+            .flat_map(|w| w.join().expect("a BLAS build panicked"))
+            .collect()
+    })
 }
 
 #[cfg(test)]

@@ -15,9 +15,10 @@ pub struct BvhStats {
     /// BLASes built (one per mesh id, ever).
     pub blas_builds: u64,
     /// Full TLAS builds (instances added or removed, a moved instance's mesh or validity
-    /// changed, or refits degraded the tree).
+    /// changed, or updates degraded the tree).
     pub tlas_builds: u64,
-    /// In-place TLAS updates (instances moved or their `MeshInstance` edited: refit).
+    /// In-place TLAS updates (instances moved or their `MeshInstance` edited: re-insertion, or
+    /// one refit pass when more than an eighth moved).
     pub tlas_updates: u64,
     /// Instances in the TLAS after the last change.
     pub instances: u64,
@@ -35,7 +36,7 @@ pub struct BvhStats {
 ///   in place; see [`crate::Blas::fingerprint`] for what is compared), then rebuilds the TLAS.
 /// - When an instance was added or removed, or became traceable or untraceable, rebuilds the
 ///   TLAS; when instances only moved (`Changed<GlobalTransform>`) or had their `MeshInstance`
-///   edited, updates records and refits.
+///   edited, updates records and re-inserts the moved ones (or refits, when many moved).
 /// - When nothing changed, does nothing and counts nothing.
 ///
 /// Creates the [`SceneBvh`] and [`BvhStats`] resources (through `Commands`) when they are

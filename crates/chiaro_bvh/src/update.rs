@@ -17,7 +17,7 @@ pub(crate) type InstanceItem = (Entity, MeshInstance, Affine3A);
 pub(crate) enum TlasWork {
     /// Nothing.
     None,
-    /// Records or boxes were updated in place (refit).
+    /// Records or boxes were updated in place (re-insertion or refit).
     Updated,
     /// The TLAS was rebuilt.
     Rebuilt,
