@@ -7,9 +7,10 @@
 //!   traverses it with its own conservative child-box test ([`wide`]). obvhs's own CWBVH
 //!   traversal is not robust (it clamps `1/d` to `1/f32::EPSILON` and every box entry to
 //!   `t >= 1e-4`: 80% of axis-parallel rays from 1e5 units away lose their hit) and obvhs's BVH2
-//!   traversal is slower; chiaro's robust CWBVH traversal measured 3.75 Mrays/s against 3.49 for
-//!   obvhs's CWBVH, 2.60 for obvhs's BVH2 and 2.24 for chiaro's earlier robust BVH2 traversal (one core,
-//!   incoherent rays, 327,680 triangles; `examples/bvh_bench.rs`).
+//!   traversal is slower. Measured on one core, incoherent rays, 327,680 triangles
+//!   (`examples/bvh_bench.rs`, same watertight triangle test everywhere): chiaro's robust CWBVH
+//!   traversal 4.27 Mrays/s, obvhs's CWBVH 3.95, obvhs's BVH2 2.85; an earlier robust BVH2
+//!   traversal of chiaro's reached 0.63x obvhs's CWBVH in the same comparison and was dropped.
 //! - **TLAS** ([`SceneBvh`]): chiaro's binned SAH builder (obvhs's builder is quadratic on
 //!   coincident instances); a moved instance is re-inserted where it now belongs (many moved at
 //!   once: one refit pass), and the tree is rebuilt when instances come or
