@@ -119,7 +119,9 @@ pub fn surface_at(scene: &RenderScene, ray: &Ray, hit: &Hit) -> SurfaceHit {
     let b = barycentrics(hit);
     let i = hit.triangle as usize * 3;
     let idx = &mesh.indices()[i..i + 3];
-    let position = ray.origin + ray.direction * hit.t;
+    // Interpolated from the vertices, not origin + t * direction: far from the ray's origin the
+    // latter can land further from the surface than the secondary-ray offset reaches.
+    let position = scene.bvh.hit_point(hit).unwrap_or(ray.origin + ray.direction * hit.t);
 
     let v = world_triangle(mesh, hit.triangle, &record.world);
     let geometric_front = (v[1] - v[0]).cross(v[2] - v[0]).normalize_or(Vec3::Z);
