@@ -121,7 +121,10 @@ pub fn surface_at(scene: &RenderScene, ray: &Ray, hit: &Hit) -> SurfaceHit {
     let idx = &mesh.indices()[i..i + 3];
     // Interpolated from the vertices, not origin + t * direction: far from the ray's origin the
     // latter can land further from the surface than the secondary-ray offset reaches.
-    let position = scene.bvh.hit_point(hit).unwrap_or(ray.origin + ray.direction * hit.t);
+    let position = scene
+        .bvh
+        .hit_point(hit)
+        .unwrap_or(ray.origin + ray.direction * hit.t);
 
     let v = world_triangle(mesh, hit.triangle, &record.world);
     let geometric_front = (v[1] - v[0]).cross(v[2] - v[0]).normalize_or(Vec3::Z);

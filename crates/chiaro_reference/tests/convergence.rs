@@ -208,3 +208,38 @@ fn direct_only_is_at_most_the_full_estimate_and_differs_in_the_cornell_box() {
         "direct {direct}, full {full}"
     );
 }
+
+/// The lit group copied 1e5 units from the origin renders like the original. Same seed: the two
+/// renders draw the same random numbers, so they differ far less than two independent renders
+/// would (paths that diverge by rounding decorrelate after a few bounces); shadow acne or light
+/// leaks in the copy would show as a difference at least as large as independent noise.
+#[test]
+fn far_copy_renders_like_the_original() {
+    let settings = RenderSettings {
+        width: 24,
+        height: 24,
+        spp: 16,
+        seed: 3,
+        ..RenderSettings::default()
+    };
+    let near = render("builtin:hard-cases?case=lit-group", settings);
+    let far = render("builtin:hard-cases?case=far-copy", settings);
+    assert_eq!(far.non_finite_samples, 0);
+    let rel_mse: f64 = far
+        .image
+        .iter()
+        .zip(&near.image)
+        .flat_map(|(x, y)| {
+            (0..3).map(move |c| ((x[c] - y[c]) as f64).powi(2) / ((y[c] as f64).powi(2) + 0.01))
+        })
+        .sum::<f64>()
+        / (3 * near.image.len()) as f64;
+    // Two independent renders at this sample count differ by about the halves' relMSE / 2.
+    let independent = near.halves_rel_mse() / 2.0;
+    assert!(
+        rel_mse < 0.5 * independent,
+        "relMSE {rel_mse} against the original, independent {independent}"
+    );
+    let (a, b) = (mean(&near.image), mean(&far.image));
+    assert!((a - b).abs() < 0.01 * a, "mean {a} near, {b} far");
+}
