@@ -201,7 +201,7 @@ fn reference(args: &SceneArgs, settings: &RenderSettings, out: &Path) -> Result<
     );
     println!("paths/s: {:.0}", output.paths as f64 / seconds);
     println!(
-        "relMSE between independent halves: {:.3e}",
+        "relMSE between independent halves: {:.3e} (the full image's own error is about a quarter of it)",
         output.halves_rel_mse()
     );
     if output.non_finite_samples > 0 {

@@ -54,6 +54,20 @@ fn cornell_box_matches_the_published_layout() {
 }
 
 #[test]
+fn cornell_box_is_pure_lambertian() {
+    let mut world = World::new();
+    load_scene(&mut world, "builtin:cornell").unwrap();
+    let materials = world.resource::<chiaro::scene::Materials>();
+    let mut count = 0;
+    for (_, m) in materials.iter() {
+        assert_eq!(m.dielectric_f0(), 0.0, "{}: IOR {}", m.name, m.ior);
+        assert_eq!((m.metallic, m.roughness), (0.0, 1.0), "{}", m.name);
+        count += 1;
+    }
+    assert_eq!(count, 4);
+}
+
+#[test]
 fn furnace_is_a_closed_emitting_sphere_around_the_camera() {
     let (i, _) = info("builtin:furnace");
     assert_eq!(

@@ -21,11 +21,16 @@ use crate::surface::{SurfaceHit, alpha_passes, emission_at, surface_at, uvs_at};
 /// How paths are traced.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PathSettings {
-    /// Most path vertices (bounces) followed. High by default: Russian roulette ends paths.
+    /// Most surface vertices that scatter light (next-event estimation and a BRDF-sampled
+    /// bounce). The ray leaving the last one is still traced for the emission or sky it reaches,
+    /// with its MIS weight, so depth D holds every path of up to D bounces exactly: 0 shows
+    /// emitters only, 1 is direct lighting (as Mitsuba's `max_depth` D + 1). High by default:
+    /// Russian roulette ends paths.
     pub max_depth: u32,
     /// Depth from which Russian roulette may end a path; `None` turns it off.
     pub russian_roulette_from: Option<u32>,
-    /// Emission plus direct light at the first hit only (what the GPU direct pass computes).
+    /// Emission plus direct light at the first hit only (what the GPU direct pass computes):
+    /// the same as `max_depth` 1.
     pub direct_only: bool,
 }
 
@@ -182,7 +187,12 @@ pub fn radiance(
     let mut total = Vec3::ZERO;
     let mut throughput = Vec3::ONE;
     let mut previous: Option<Previous> = None;
-    for depth in 0..settings.max_depth {
+    let last = if settings.direct_only {
+        1
+    } else {
+        settings.max_depth
+    };
+    for depth in 0..=last {
         let Some(hit) = scene.bvh.closest_hit_with(&ray, &accept) else {
             let weight = emission_weight(previous, |_| {
                 scene.lights.environment_pmf() * scene.environment.pdf(ray.direction)
@@ -201,7 +211,7 @@ pub fn radiance(
             });
             total += throughput * si.emission * weight;
         }
-        if !si.shades || (settings.direct_only && depth == 1) {
+        if !si.shades || depth == last {
             break;
         }
         let wo = si.frame.to_local(-ray.direction);
