@@ -4,11 +4,11 @@
 use glam::Vec3;
 
 /// Below this magnitude a coordinate is offset by a fixed amount instead of in ulps.
-const ORIGIN: f32 = 1.0 / 32.0;
+pub const ORIGIN: f32 = 1.0 / 32.0;
 /// Fixed offset scale near the origin.
-const FLOAT_SCALE: f32 = 1.0 / 65536.0;
+pub const FLOAT_SCALE: f32 = 1.0 / 65536.0;
 /// Offset in ulps per unit of normal component.
-const INT_SCALE: f32 = 256.0;
+pub const INT_SCALE: f32 = 256.0;
 
 /// Moves a surface point `p` off its surface along `geometric_normal`, so that a ray started
 /// there does not hit the surface it starts on.

@@ -1,0 +1,514 @@
+//! lib/brdf.wgsl against chiaro_shading::brdf on a million random inputs made in Rust: eval,
+//! pdf, specular_probability and sample (direction, weight, pdf, delta, None) per input.
+//!
+//! Inputs mix random materials with their edge values (roughness 0, 1 and around the mirror
+//! threshold; metallic, F0, absorption and colour 0 and 1) and directions from the whole sphere
+//! (half below the horizon), grazing ones (|z| from 1e-7 to 1e-2, and 0), the normal, and the
+//! exact and near mirror reflection of the view.
+//!
+//! What must hold, for every input:
+//! - nothing the GPU returns is NaN or infinite;
+//! - eval, pdf and specular_probability have the same zero / non-zero pattern as the CPU and
+//!   are within [`REL_EVAL`] of it (relative to the CPU value, each colour channel to at least
+//!   [`CHANNEL_FLOOR`] of the colour's largest); where either side is exactly 0 the other is
+//!   below [`NEGLIGIBLE`] (1e-30);
+//! - sample: the same outcome (None, delta or not). Where both drew a direction, it is within
+//!   [`DIR_TOL`] of the CPU's, and weight and pdf are within [`REL_SAMPLE`]. The sampled
+//!   direction goes through `cos`, `sin` and `sqrt`, which WGSL computes less exactly than Rust;
+//!   the weight and pdf are then also checked against the CPU's eval and pdf *at the GPU's
+//!   direction*, within [`REL_EVAL`]: the two sides agree on the function, and differ only
+//!   by the direction's rounding.
+//! - Outcomes may differ only where the CPU's direction lies within [`DIR_TOL`] of the horizon
+//!   (one side lands just above, the other at or below) or `u_lobe` is within 1e-6 of the lobe
+//!   probability; such cases are counted and must stay below [`MAX_OUTCOME_MISMATCH`].
+
+mod common;
+mod kernel;
+
+use std::time::Instant;
+
+use bytemuck::{Pod, Zeroable};
+use chiaro_shading::brdf::{self, MIRROR_ALPHA, SurfaceParams};
+use chiaro_shading::rng::Pcg32;
+use chiaro_shading::sampling::uniform_sphere;
+use glam::{Vec2, Vec3};
+use kernel::{Input, Kernel, Output};
+
+/// Inputs in the test.
+const INPUTS: usize = 1_000_000;
+/// Inputs per GPU run.
+const BATCH: usize = 250_000;
+/// Relative error bound of eval, pdf and specular_probability (same inputs on both sides).
+const REL_EVAL: f32 = 1e-5;
+/// Absolute bound on each component of the sampled direction (its x and y go through `cos`,
+/// `sin` and square roots of differences near 0, which WGSL computes less exactly than Rust).
+const DIR_TOL: f32 = 5e-4;
+/// Channels below this fraction of a colour's largest channel are compared in absolute terms
+/// (see [`relative_error3`]).
+const CHANNEL_FLOOR: f32 = 1e-3;
+/// Directions with z below this are "at the horizon": z = sqrt(1 - x^2 - y^2) there turns a
+/// rounding difference of 1e-7 in x or y into one of about 5e-4 in z.
+const HORIZON_TOL: f32 = 2e-3;
+/// Relative bound on the sampled weight and pdf against the CPU's sample.
+const REL_SAMPLE: f32 = 5e-3;
+/// Most samples whose outcome (None / delta / lobe) may differ, all near a decision boundary:
+/// 0.2% of the inputs (a fifth of them are seen at grazing angles, where drawn directions
+/// often end within rounding of the horizon).
+const MAX_OUTCOME_MISMATCH: usize = INPUTS / 500;
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable, Debug)]
+struct BrdfInput {
+    base_color: [f32; 3],
+    metallic: f32,
+    wo: [f32; 3],
+    roughness: f32,
+    wi: [f32; 3],
+    f0_dielectric: f32,
+    u: [f32; 2],
+    u_lobe: f32,
+    absorption: f32,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable, Debug)]
+struct BrdfOutput {
+    eval: [f32; 3],
+    pdf: f32,
+    wi: [f32; 3],
+    sample_pdf: f32,
+    weight: [f32; 3],
+    /// Bit 0: the sample is valid; bit 1: it is a delta.
+    flags: u32,
+    specular_probability: f32,
+    pad: [f32; 3],
+}
+
+const KERNEL: &str = r#"
+#import lib/brdf.wgsl
+
+struct BrdfInput {
+    base_color: vec3<f32>,
+    metallic: f32,
+    wo: vec3<f32>,
+    roughness: f32,
+    wi: vec3<f32>,
+    f0_dielectric: f32,
+    u: vec2<f32>,
+    u_lobe: f32,
+    absorption: f32,
+}
+
+struct BrdfOutput {
+    eval: vec3<f32>,
+    pdf: f32,
+    wi: vec3<f32>,
+    sample_pdf: f32,
+    weight: vec3<f32>,
+    flags: u32,
+    specular_probability: f32,
+}
+
+@group(0) @binding(0) var<storage, read> inputs: array<BrdfInput>;
+@group(0) @binding(1) var<storage, read_write> outputs: array<BrdfOutput>;
+
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= arrayLength(&inputs) {
+        return;
+    }
+    let x = inputs[i];
+    let p = SurfaceParams(x.base_color, x.metallic, x.roughness, x.f0_dielectric, x.absorption);
+    var o: BrdfOutput;
+    o.eval = brdf_eval(p, x.wo, x.wi);
+    o.pdf = brdf_pdf(p, x.wo, x.wi);
+    o.specular_probability = specular_probability(p, x.wo);
+    let s = brdf_sample(p, x.wo, x.u_lobe, x.u);
+    o.wi = s.wi;
+    o.sample_pdf = s.pdf;
+    o.weight = s.weight;
+    o.flags = select(0u, 1u, s.valid) | select(0u, 2u, s.delta);
+    outputs[i] = o;
+}
+"#;
+
+/// A unit direction with cosine `mu` to the normal and azimuth `phi`.
+fn at_cosine(mu: f32, phi: f32) -> Vec3 {
+    let s = (1.0 - mu * mu).max(0.0).sqrt();
+    Vec3::new(s * phi.cos(), s * phi.sin(), mu)
+}
+
+/// A view or light direction: the whole sphere, the hemisphere, grazing, or the normal.
+fn random_direction(rng: &mut Pcg32) -> Vec3 {
+    let phi = rng.next_f32() * std::f32::consts::TAU;
+    match rng.next_u32() % 8 {
+        0..=2 => uniform_sphere(rng.next_vec2()),
+        3 | 4 => {
+            let d = uniform_sphere(rng.next_vec2());
+            Vec3::new(d.x, d.y, d.z.abs())
+        }
+        5 | 6 => {
+            let grazing = [0.0, 1e-7, -1e-7, 1e-6, 1e-5, 1e-4, 1e-3, 1e-2, -1e-2];
+            at_cosine(grazing[(rng.next_u32() % 9) as usize], phi)
+        }
+        _ => Vec3::Z,
+    }
+}
+
+/// Random material parameters, edge values drawn often (as chiaro_shading's own tests do).
+fn random_params(rng: &mut Pcg32) -> SurfaceParams {
+    let mut pick = |edges: &[f32]| {
+        if rng.next_f32() < 0.3 {
+            edges[(rng.next_u32() as usize) % edges.len()]
+        } else {
+            rng.next_f32()
+        }
+    };
+    let roughness = pick(&[
+        0.0,
+        1.0,
+        MIRROR_ALPHA.sqrt(),
+        MIRROR_ALPHA.sqrt() * 1.001,
+        MIRROR_ALPHA.sqrt() * 0.999,
+        0.05,
+        0.01,
+    ]);
+    let metallic = pick(&[0.0, 1.0]);
+    let f0_dielectric = pick(&[0.0, 0.04, 1.0]);
+    let absorption = pick(&[0.0, 1.0]);
+    let base_color = Vec3::new(pick(&[0.0, 1.0]), pick(&[0.0, 1.0]), pick(&[0.0, 1.0]));
+    SurfaceParams {
+        base_color,
+        metallic,
+        roughness,
+        f0_dielectric,
+        absorption,
+    }
+}
+
+fn random_input(rng: &mut Pcg32) -> BrdfInput {
+    let p = random_params(rng);
+    let wo = random_direction(rng);
+    let wi = match rng.next_u32() % 6 {
+        // The exact mirror reflection of the view, and a slight tilt of it.
+        0 => Vec3::new(-wo.x, -wo.y, wo.z),
+        1 => (Vec3::new(-wo.x, -wo.y, wo.z) + (uniform_sphere(rng.next_vec2()) * 1e-3)).normalize(),
+        _ => random_direction(rng),
+    };
+    let mut uniform = |edges: &[f32]| {
+        if rng.next_f32() < 0.1 {
+            edges[(rng.next_u32() as usize) % edges.len()]
+        } else {
+            rng.next_f32()
+        }
+    };
+    let edges = [0.0, 0.5, 0.999_999_94];
+    let u = [uniform(&edges), uniform(&edges)];
+    let u_lobe = uniform(&edges);
+    BrdfInput {
+        base_color: p.base_color.to_array(),
+        metallic: p.metallic,
+        wo: wo.to_array(),
+        roughness: p.roughness,
+        wi: wi.to_array(),
+        f0_dielectric: p.f0_dielectric,
+        u,
+        u_lobe,
+        absorption: p.absorption,
+    }
+}
+
+fn params(x: &BrdfInput) -> SurfaceParams {
+    SurfaceParams {
+        base_color: Vec3::from_array(x.base_color),
+        metallic: x.metallic,
+        roughness: x.roughness,
+        f0_dielectric: x.f0_dielectric,
+        absorption: x.absorption,
+    }
+}
+
+/// Where one side is exactly zero the other must be below this. GPUs may flush subnormals, and
+/// a Fresnel term (1 - cos)^5 whose cosine is one rounding step from 1 lands around 1e-35 on
+/// one side and at exactly 0 on the other.
+const NEGLIGIBLE: f32 = 1e-30;
+
+/// The zero / non-zero pattern: where either side is exactly 0, the other is negligible.
+fn same_zero_pattern(gpu: f32, cpu: f32) -> bool {
+    (cpu != 0.0 || gpu.abs() < NEGLIGIBLE) && (gpu != 0.0 || cpu.abs() < NEGLIGIBLE)
+}
+
+/// Relative error of `gpu` against `cpu`: 0 when both are negligible, infinite when only the
+/// CPU's is, or when the zero pattern differs.
+fn relative_error(gpu: f32, cpu: f32) -> f32 {
+    if !same_zero_pattern(gpu, cpu) {
+        return f32::INFINITY;
+    }
+    if cpu.abs() < NEGLIGIBLE {
+        return if gpu.abs() < NEGLIGIBLE {
+            0.0
+        } else {
+            f32::INFINITY
+        };
+    }
+    ((gpu - cpu) / cpu).abs()
+}
+
+/// Returns an error with the message unless the condition holds.
+macro_rules! ensure {
+    ($cond:expr, $($fmt:tt)+) => {
+        let holds: bool = $cond;
+        if !holds {
+            return Err(format!($($fmt)+));
+        }
+    };
+}
+
+/// The largest relative error over the components of a colour (see [`relative_error`]), each
+/// measured against at least [`CHANNEL_FLOOR`] times the largest channel: a channel a thousand
+/// times dimmer than another (say 1e-31 next to 0.5, where metallic 1 meets a zero base colour
+/// channel) is held to the same absolute error as that floor, not to its own digits. The zero
+/// pattern is checked per channel all the same.
+fn relative_error3(gpu: [f32; 3], cpu: Vec3) -> f32 {
+    let floor = CHANNEL_FLOOR * cpu.abs().max_element();
+    (0..3)
+        .map(|k| {
+            if !same_zero_pattern(gpu[k], cpu[k]) {
+                f32::INFINITY
+            } else if cpu[k].abs() < floor {
+                (gpu[k] - cpu[k]).abs() / floor
+            } else {
+                relative_error(gpu[k], cpu[k])
+            }
+        })
+        .fold(0.0, f32::max)
+}
+
+#[derive(Default, Debug)]
+struct Worst {
+    eval: f32,
+    pdf: f32,
+    specular_probability: f32,
+    direction: f32,
+    weight: f32,
+    sample_pdf: f32,
+    weight_at_gpu_direction: f32,
+    pdf_at_gpu_direction: f32,
+    outcome_mismatches: usize,
+    samples_compared: usize,
+    zeros: usize,
+}
+
+fn check(x: &BrdfInput, g: &BrdfOutput, worst: &mut Worst) -> Result<(), String> {
+    let p = params(x);
+    let wo = Vec3::from_array(x.wo);
+    let wi = Vec3::from_array(x.wi);
+    let all = [
+        g.eval[0],
+        g.eval[1],
+        g.eval[2],
+        g.pdf,
+        g.wi[0],
+        g.wi[1],
+        g.wi[2],
+        g.sample_pdf,
+        g.weight[0],
+        g.weight[1],
+        g.weight[2],
+        g.specular_probability,
+    ];
+    ensure!(
+        all.iter().all(|v| v.is_finite()),
+        "non-finite for {x:?}: {g:?}"
+    );
+
+    let eval = brdf::eval(&p, wo, wi);
+    let e = relative_error3(g.eval, eval);
+    ensure!(e <= REL_EVAL, "eval {:?} vs {eval} ({e}) for {x:?}", g.eval);
+    worst.eval = worst.eval.max(e);
+    worst.zeros += usize::from(eval == Vec3::ZERO);
+    let pdf = brdf::pdf(&p, wo, wi);
+    let e = relative_error(g.pdf, pdf);
+    ensure!(e <= REL_EVAL, "pdf {} vs {pdf} ({e}) for {x:?}", g.pdf);
+    worst.pdf = worst.pdf.max(e);
+    let sp = brdf::specular_probability(&p, wo);
+    let e = relative_error(g.specular_probability, sp);
+    ensure!(
+        e <= REL_EVAL,
+        "specular probability {} vs {sp} for {x:?}",
+        g.specular_probability
+    );
+    worst.specular_probability = worst.specular_probability.max(e);
+
+    let cpu = brdf::sample(&p, wo, x.u_lobe, Vec2::from_array(x.u));
+    let valid = g.flags & 1 != 0;
+    let delta = g.flags & 2 != 0;
+    let same_outcome = match cpu {
+        None => !valid,
+        Some(s) => valid && s.delta == delta,
+    };
+    let near_boundary = |s: Option<brdf::BrdfSample>| {
+        let horizon = s.is_some_and(|s| s.wi.z < HORIZON_TOL) || (valid && g.wi[2] < HORIZON_TOL);
+        let lobe = (x.u_lobe - sp).abs() < 1e-6;
+        // A None from a direction below the horizon: the GPU's direction is near it too.
+        let none_at_horizon = s.is_none() && valid && g.wi[2] < HORIZON_TOL;
+        horizon || lobe || none_at_horizon
+    };
+    if !same_outcome {
+        ensure!(
+            near_boundary(cpu),
+            "sample outcome differs away from any boundary for {x:?}: cpu {cpu:?}, gpu {g:?}"
+        );
+        worst.outcome_mismatches += 1;
+        return Ok(());
+    }
+    let Some(s) = cpu else {
+        return Ok(());
+    };
+    let gwi = Vec3::from_array(g.wi);
+    // At the horizon z is the square root of a rounding difference (see HORIZON_TOL).
+    let dz_tol = if s.wi.z < HORIZON_TOL {
+        HORIZON_TOL
+    } else {
+        DIR_TOL
+    };
+    let d = (gwi - s.wi).abs();
+    let e = d.x.max(d.y).max(d.z * DIR_TOL / dz_tol);
+    if e > DIR_TOL {
+        // Both sides drew, but different lobes: only at the lobe boundary.
+        ensure!(
+            near_boundary(cpu),
+            "direction {gwi} vs {} ({e}) for {x:?}",
+            s.wi
+        );
+        worst.outcome_mismatches += 1;
+        return Ok(());
+    }
+    worst.direction = worst.direction.max(e);
+    worst.samples_compared += 1;
+    if s.delta {
+        // The mirror: F(wo.z) (1 - absorption) / p, no trigonometry involved.
+        let e = relative_error3(g.weight, s.weight);
+        ensure!(
+            e <= REL_EVAL,
+            "mirror weight {:?} vs {} ({e}) for {x:?}",
+            g.weight,
+            s.weight
+        );
+        let e = relative_error(g.sample_pdf, s.pdf);
+        ensure!(
+            e <= REL_EVAL,
+            "mirror pdf {} vs {} ({e}) for {x:?}",
+            g.sample_pdf,
+            s.pdf
+        );
+        worst.weight = worst.weight.max(e);
+        return Ok(());
+    }
+    // The same function at the GPU's own direction: f cos / pdf and pdf.
+    let f = brdf::eval(&p, wo, gwi);
+    let pdf = brdf::pdf(&p, wo, gwi);
+    ensure!(
+        pdf > 0.0,
+        "the GPU drew {gwi}, where the CPU's pdf is 0, for {x:?}"
+    );
+    let e = relative_error3(g.weight, f * gwi.z / pdf);
+    ensure!(
+        e <= REL_EVAL,
+        "weight {:?} vs the CPU's f cos / pdf {} at the GPU's {gwi} ({e}) for {x:?}",
+        g.weight,
+        f * gwi.z / pdf
+    );
+    worst.weight_at_gpu_direction = worst.weight_at_gpu_direction.max(e);
+    let e = relative_error(g.sample_pdf, pdf);
+    ensure!(
+        e <= REL_EVAL,
+        "sample pdf {} vs the CPU's {pdf} at {gwi} for {x:?}",
+        g.sample_pdf
+    );
+    worst.pdf_at_gpu_direction = worst.pdf_at_gpu_direction.max(e);
+    if s.wi.z < HORIZON_TOL {
+        // There the weight and pdf depend on z, which is the square root of a rounding error.
+        return Ok(());
+    }
+    let e = relative_error3(g.weight, s.weight);
+    ensure!(
+        e <= REL_SAMPLE,
+        "weight {:?} vs {} ({e}) at {gwi} vs {} for {x:?}",
+        g.weight,
+        s.weight,
+        s.wi
+    );
+    worst.weight = worst.weight.max(e);
+    let e = relative_error(g.sample_pdf, s.pdf);
+    ensure!(
+        e <= REL_SAMPLE,
+        "sample pdf {} vs {} ({e}) for {x:?}",
+        g.sample_pdf,
+        s.pdf
+    );
+    worst.sample_pdf = worst.sample_pdf.max(e);
+    Ok(())
+}
+
+#[test]
+fn wgsl_brdf_matches_chiaro_shading_on_a_million_inputs() {
+    let Some(gpu) = common::gpu() else {
+        return;
+    };
+    let start = Instant::now();
+    let kernel = Kernel::new(&gpu, "brdf parity", KERNEL);
+    let mut rng = Pcg32::new(0xb2d5, 7);
+    let mut worst = Worst::default();
+    let mut gpu_time = 0.0;
+    let mut done = 0;
+    let mut failures = Vec::new();
+    while done < INPUTS {
+        let n = BATCH.min(INPUTS - done);
+        let inputs: Vec<BrdfInput> = (0..n).map(|_| random_input(&mut rng)).collect();
+        let t = Instant::now();
+        let bytes = kernel.run(
+            &gpu,
+            &[Input {
+                group: 0,
+                binding: 0,
+                data: bytemuck::cast_slice(&inputs),
+            }],
+            &Output {
+                group: 0,
+                binding: 1,
+                size: (n * size_of::<BrdfOutput>()) as u64,
+            },
+            n as u32,
+        );
+        gpu_time += t.elapsed().as_secs_f64();
+        let outputs: &[BrdfOutput] = bytemuck::cast_slice(&bytes);
+        for (x, g) in inputs.iter().zip(outputs) {
+            if let Err(e) = check(x, g, &mut worst) {
+                if failures.len() < 20 {
+                    eprintln!("{e}");
+                }
+                failures.push(e);
+            }
+        }
+        done += n;
+    }
+    eprintln!(
+        "{INPUTS} inputs in {:.1} s ({gpu_time:.1} s on the GPU): {worst:?}",
+        start.elapsed().as_secs_f64()
+    );
+    assert!(
+        failures.is_empty(),
+        "{} of {INPUTS} inputs disagree",
+        failures.len()
+    );
+    assert!(
+        worst.outcome_mismatches <= MAX_OUTCOME_MISMATCH,
+        "{} sample outcomes differ",
+        worst.outcome_mismatches
+    );
+    // The inputs exercise what they claim to: many zeros (below the horizon) and many samples.
+    assert!(worst.zeros > INPUTS / 10, "{worst:?}");
+    assert!(worst.samples_compared > INPUTS / 3, "{worst:?}");
+}
