@@ -23,8 +23,9 @@ use glam::{Vec3, Vec3A};
 const UNIT_ROUNDOFF: f32 = f32::EPSILON * 0.5;
 /// `gamma(3) = 3u / (1 - 3u)` from Ize 2013 / PBRT.
 const GAMMA3: f32 = 3.0 * UNIT_ROUNDOFF / (1.0 - 3.0 * UNIT_ROUNDOFF);
-/// Relative growth applied to a box's exit distance.
-const TWO_GAMMA3: f32 = 2.0 * GAMMA3;
+/// Relative growth applied to a box's exit distance (`2 gamma(3)`; the GPU traversal uses the
+/// same value).
+pub const TWO_GAMMA3: f32 = 2.0 * GAMMA3;
 
 /// Pad of a bottom-level box, in units of `f32::EPSILON` times (largest origin coordinate +
 /// largest coordinate of the mesh), both in object space. The watertight test's perturbation is
