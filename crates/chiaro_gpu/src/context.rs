@@ -1,0 +1,246 @@
+//! The wgpu adapter, device and queue the frame runs on.
+//!
+//! [`GpuContext::new_headless`] takes any adapter wgpu offers (Vulkan or GL: a discrete GPU is
+//! preferred over an integrated one, a virtual one, then a CPU rasterizer such as lavapipe or
+//! llvmpipe) and asks the device for exactly what chiaro needs ([`required_limits`]), plus
+//! timestamp queries when the adapter has them. An adapter that falls short is refused with an
+//! error naming it and each missing limit or capability.
+
+use std::fmt::Write as _;
+
+use thiserror::Error;
+
+/// Storage buffers one shader stage binds: the scene's group(0) (BVH, geometry, materials,
+/// lights, environment) plus a pass's own.
+pub const STORAGE_BUFFERS_PER_STAGE: u32 = 16;
+
+/// Why no device could be made.
+#[derive(Debug, Error)]
+pub enum ContextError {
+    /// wgpu found no adapter on the enabled backends.
+    #[error(
+        "no GPU adapter found on backends {backends:?} (install a Vulkan driver such as Mesa's lavapipe, or a GL driver)"
+    )]
+    NoAdapter {
+        /// The backends searched.
+        backends: wgpu::Backends,
+    },
+    /// Every adapter lacks something chiaro needs; the best-ranked one is named.
+    #[error("adapter '{adapter}' ({backend:?}) cannot run chiaro: {missing}")]
+    Unsupported {
+        /// The adapter's name.
+        adapter: String,
+        /// Its backend.
+        backend: wgpu::Backend,
+        /// What it lacks, e.g. `max_storage_buffers_per_shader_stage: need 16, have 8`.
+        missing: String,
+    },
+    /// The adapter refused the device request.
+    #[error("adapter '{adapter}' refused the device: {source}")]
+    Device {
+        /// The adapter's name.
+        adapter: String,
+        /// wgpu's error.
+        source: wgpu::RequestDeviceError,
+    },
+}
+
+/// The limits chiaro asks for: WebGPU's downlevel defaults with more storage buffers per
+/// stage, and the adapter's own buffer sizes (large scenes need large storage buffers).
+pub fn required_limits(adapter: &wgpu::Limits) -> wgpu::Limits {
+    wgpu::Limits {
+        max_storage_buffers_per_shader_stage: STORAGE_BUFFERS_PER_STAGE,
+        max_storage_textures_per_shader_stage: 4,
+        max_texture_dimension_2d: 4096,
+        max_storage_buffer_binding_size: adapter
+            .max_storage_buffer_binding_size
+            .max(wgpu::Limits::downlevel_defaults().max_storage_buffer_binding_size),
+        max_buffer_size: adapter
+            .max_buffer_size
+            .max(wgpu::Limits::downlevel_defaults().max_buffer_size),
+        ..wgpu::Limits::downlevel_defaults()
+    }
+}
+
+/// The downlevel capabilities chiaro's shaders use.
+const REQUIRED_DOWNLEVEL: wgpu::DownlevelFlags = wgpu::DownlevelFlags::COMPUTE_SHADERS
+    .union(wgpu::DownlevelFlags::VERTEX_STORAGE)
+    .union(wgpu::DownlevelFlags::FRAGMENT_STORAGE)
+    .union(wgpu::DownlevelFlags::INDIRECT_EXECUTION);
+
+/// What `adapter` lacks for chiaro, empty when nothing.
+pub fn missing_capabilities(adapter: &wgpu::Adapter) -> String {
+    let mut missing = String::new();
+    let have = adapter.limits();
+    required_limits(&have).check_limits_with_fail_fn(&have, false, |name, need, got| {
+        let _ = write!(missing, "{}{name}: need {need}, have {got}", sep(&missing));
+    });
+    let flags = adapter.get_downlevel_capabilities().flags;
+    let lacking = REQUIRED_DOWNLEVEL.difference(flags);
+    if !lacking.is_empty() {
+        let _ = write!(
+            missing,
+            "{}downlevel capabilities {lacking:?}",
+            sep(&missing)
+        );
+    }
+    missing
+}
+
+fn sep(text: &str) -> &'static str {
+    if text.is_empty() { "" } else { "; " }
+}
+
+/// Preference of an adapter kind: lower is better.
+fn rank(info: &wgpu::AdapterInfo) -> (u8, u8) {
+    let kind = match info.device_type {
+        wgpu::DeviceType::DiscreteGpu => 0,
+        wgpu::DeviceType::IntegratedGpu => 1,
+        wgpu::DeviceType::VirtualGpu => 2,
+        wgpu::DeviceType::Cpu => 3,
+        wgpu::DeviceType::Other => 4,
+    };
+    let backend = u8::from(info.backend != wgpu::Backend::Vulkan);
+    (kind, backend)
+}
+
+/// The device chiaro renders with.
+pub struct GpuContext {
+    /// The wgpu instance the adapter came from.
+    pub instance: wgpu::Instance,
+    /// The chosen adapter.
+    pub adapter: wgpu::Adapter,
+    /// The adapter's description (name, backend, driver).
+    pub info: wgpu::AdapterInfo,
+    /// The device.
+    pub device: wgpu::Device,
+    /// Its queue.
+    pub queue: wgpu::Queue,
+    /// Whether the device has timestamp queries (passes are then timed on the GPU).
+    pub timestamps: bool,
+}
+
+impl GpuContext {
+    /// A context on the best adapter of the backends wgpu's environment variables allow
+    /// (`WGPU_BACKEND`; Vulkan and GL by default), without a surface.
+    pub fn new_headless() -> Result<Self, ContextError> {
+        let backends = wgpu::Backends::VULKAN | wgpu::Backends::GL;
+        let descriptor = wgpu::InstanceDescriptor {
+            backends,
+            ..wgpu::InstanceDescriptor::new_without_display_handle()
+        }
+        .with_env();
+        let backends = descriptor.backends;
+        let instance = wgpu::Instance::new(descriptor);
+        let mut adapters = pollster::block_on(instance.enumerate_adapters(backends));
+        adapters.sort_by_key(|a| rank(&a.get_info()));
+        let Some(best) = adapters.first() else {
+            return Err(ContextError::NoAdapter { backends });
+        };
+        let Some(adapter) = adapters
+            .iter()
+            .find(|a| missing_capabilities(a).is_empty())
+            .cloned()
+        else {
+            let info = best.get_info();
+            return Err(ContextError::Unsupported {
+                adapter: info.name,
+                backend: info.backend,
+                missing: missing_capabilities(best),
+            });
+        };
+        Self::from_adapter(instance, adapter)
+    }
+
+    /// A context on `adapter`, which must have what [`missing_capabilities`] checks.
+    pub fn from_adapter(
+        instance: wgpu::Instance,
+        adapter: wgpu::Adapter,
+    ) -> Result<Self, ContextError> {
+        let info = adapter.get_info();
+        let missing = missing_capabilities(&adapter);
+        if !missing.is_empty() {
+            return Err(ContextError::Unsupported {
+                adapter: info.name,
+                backend: info.backend,
+                missing,
+            });
+        }
+        let timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let required_features = if timestamps {
+            wgpu::Features::TIMESTAMP_QUERY
+        } else {
+            wgpu::Features::empty()
+        };
+        let descriptor = wgpu::DeviceDescriptor {
+            label: Some("chiaro device"),
+            required_features,
+            required_limits: required_limits(&adapter.limits()),
+            ..Default::default()
+        };
+        let (device, queue) =
+            pollster::block_on(adapter.request_device(&descriptor)).map_err(|source| {
+                ContextError::Device {
+                    adapter: info.name.clone(),
+                    source,
+                }
+            })?;
+        log::info!(
+            "GPU: {} ({:?}, {:?}, driver {} {}), timestamps {}",
+            info.name,
+            info.backend,
+            info.device_type,
+            info.driver,
+            info.driver_info,
+            timestamps
+        );
+        Ok(Self {
+            instance,
+            adapter,
+            info,
+            device,
+            queue,
+            timestamps,
+        })
+    }
+
+    /// One line naming the adapter: name, backend, kind.
+    pub fn describe(&self) -> String {
+        format!(
+            "{} ({:?}, {:?})",
+            self.info.name, self.info.backend, self.info.device_type
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn discrete_gpus_rank_before_cpus_and_vulkan_before_gl() {
+        let info = wgpu::AdapterInfo::new;
+        let discrete = rank(&info(wgpu::DeviceType::DiscreteGpu, wgpu::Backend::Gl));
+        let cpu_vk = rank(&info(wgpu::DeviceType::Cpu, wgpu::Backend::Vulkan));
+        let cpu_gl = rank(&info(wgpu::DeviceType::Cpu, wgpu::Backend::Gl));
+        assert!(discrete < cpu_vk && cpu_vk < cpu_gl);
+    }
+
+    #[test]
+    fn required_limits_take_the_adapters_buffer_sizes() {
+        let adapter = wgpu::Limits {
+            max_storage_buffer_binding_size: 1 << 30,
+            ..wgpu::Limits::default()
+        };
+        let limits = required_limits(&adapter);
+        assert_eq!(limits.max_storage_buffer_binding_size, 1 << 30);
+        assert_eq!(
+            limits.max_storage_buffers_per_shader_stage,
+            STORAGE_BUFFERS_PER_STAGE
+        );
+        // An adapter with WebGPU's default limits falls short only of the storage-buffer count.
+        let mut failures = Vec::new();
+        limits.check_limits_with_fail_fn(&adapter, false, |name, _, _| failures.push(name));
+        assert_eq!(failures, ["max_storage_buffers_per_shader_stage"]);
+    }
+}

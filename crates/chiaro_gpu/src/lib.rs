@@ -1,0 +1,13 @@
+//! chiaro's GPU frame on wgpu: the device ([`context`]), the WGSL sources and their
+//! composition ([`shaders`]).
+//!
+//! It runs on any adapter wgpu offers, CPU rasterizers such as lavapipe included: rays are
+//! traversed in compute shaders over the BVHs `chiaro_bvh` builds, with no hardware ray tracing.
+
+#![warn(missing_docs)]
+
+pub mod context;
+pub mod shaders;
+
+pub use context::{ContextError, GpuContext};
+pub use shaders::{ShaderError, compose};
