@@ -147,7 +147,7 @@ fn random_input(rng: &mut Pcg32) -> SamplingInput {
     let f_pdf = pick(rng, &pdf_edges, 0.2, |r| r.next_f32() * 10.0);
     let g_pdf = pick(rng, &pdf_edges, 0.2, |r| r.next_f32() * 10.0);
     // Points from 1e-9 to 1e18 in magnitude, both signs, and exact zeros.
-    let mut coordinate = |rng: &mut Pcg32| {
+    let coordinate = |rng: &mut Pcg32| {
         pick(rng, &[0.0, -0.0, 1.0 / 32.0, -1.0 / 32.0], 0.1, |r| {
             let magnitude = 10f32.powf(r.next_f32() * 27.0 - 9.0);
             if r.next_u32() % 2 == 0 {
