@@ -193,6 +193,11 @@ pub fn shared_constants() -> Vec<SharedConstant> {
         F32("OFFSET_ORIGIN", chiaro_bvh::offset::ORIGIN),
         F32("OFFSET_FLOAT_SCALE", chiaro_bvh::offset::FLOAT_SCALE),
         F32("OFFSET_INT_SCALE", chiaro_bvh::offset::INT_SCALE),
+        F32(
+            "ONE_MINUS_EPSILON",
+            chiaro_shading::distribution::ONE_MINUS_EPSILON,
+        ),
+        F32("MIN_SIN_THETA", chiaro_shading::lights::MIN_SIN_THETA),
         U32(
             "PCG32_MULTIPLIER_LO",
             chiaro_shading::rng::PCG32_MULTIPLIER as u32,

@@ -11,7 +11,7 @@
 use glam::Vec2;
 
 /// The largest f32 below 1: uniform numbers are clamped to [0, this].
-const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
+pub const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
 
 /// A distribution over the indices 0..n proportional to non-negative weights.
 ///
@@ -80,6 +80,11 @@ impl Distribution1D {
     /// The sum of the weights.
     pub fn total(&self) -> f32 {
         self.total
+    }
+
+    /// The CDF: `len() + 1` entries from 0 to exactly 1, non-decreasing (for a GPU copy).
+    pub fn cdf(&self) -> &[f32] {
+        &self.cdf
     }
 
     /// The probability of picking `index`: its weight over the total (0 outside the range).
@@ -186,6 +191,16 @@ impl Distribution2D {
     /// The sum of all weights.
     pub fn total(&self) -> f32 {
         self.marginal.total()
+    }
+
+    /// The distribution over rows (for a GPU copy).
+    pub fn marginal(&self) -> &Distribution1D {
+        &self.marginal
+    }
+
+    /// The distribution over the columns of row `y` (for a GPU copy); `None` past the last row.
+    pub fn conditional(&self, y: usize) -> Option<&Distribution1D> {
+        self.conditional.get(y)
     }
 
     /// The probability of picking cell (x, y): row mass times column mass within the row (equal

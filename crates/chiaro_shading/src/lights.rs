@@ -21,7 +21,7 @@ use crate::sampling::uniform_triangle;
 
 mod environment;
 
-pub use environment::EnvironmentLight;
+pub use environment::{EnvironmentLight, MIN_SIN_THETA};
 
 /// Distances below this (1e-6, a micrometre in metres) are raised to it in the inverse-square
 /// falloff of point and spot lights, so a shading point next to a light gets a large but finite

@@ -122,6 +122,41 @@ impl EnvironmentLight {
         }
     }
 
+    /// The constant radiance, `None` for an image.
+    pub fn constant_radiance(&self) -> Option<Vec3> {
+        match &self.source {
+            Source::Constant(c) => Some(*c),
+            Source::Image { .. } => None,
+        }
+    }
+
+    /// The image's radiance texels (strength applied), width and height; `None` for a constant.
+    pub fn texels(&self) -> Option<(&[Vec3], usize, usize)> {
+        match &self.source {
+            Source::Constant(_) => None,
+            Source::Image {
+                texels,
+                width,
+                height,
+                ..
+            } => Some((texels, *width, *height)),
+        }
+    }
+
+    /// The image's texel distribution; `None` for a constant or a black image (both sampled
+    /// uniformly over the sphere).
+    pub fn distribution(&self) -> Option<&Distribution2D> {
+        match &self.source {
+            Source::Constant(_) => None,
+            Source::Image { distribution, .. } => distribution.as_ref(),
+        }
+    }
+
+    /// cos and sin of the rotation about +Y.
+    pub fn rotation_cos_sin(&self) -> (f32, f32) {
+        (self.cos_rotation, self.sin_rotation)
+    }
+
     /// True when no direction carries any radiance.
     pub fn is_black(&self) -> bool {
         match &self.source {
