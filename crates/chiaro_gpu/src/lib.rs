@@ -1,5 +1,6 @@
 //! chiaro's GPU frame on wgpu: the device ([`context`]), the WGSL sources and their
-//! composition ([`shaders`]).
+//! composition ([`shaders`]), the scene's buffers
+//! ([`gpu_scene`]).
 //!
 //! It runs on any adapter wgpu offers, CPU rasterizers such as lavapipe included: rays are
 //! traversed in compute shaders over the BVHs `chiaro_bvh` builds, with no hardware ray tracing.
@@ -7,7 +8,9 @@
 #![warn(missing_docs)]
 
 pub mod context;
+pub mod gpu_scene;
 pub mod shaders;
 
 pub use context::{ContextError, GpuContext};
+pub use gpu_scene::{GpuScene, UploadStats, add_gpu_scene_systems, upload_gpu_scene};
 pub use shaders::{ShaderError, compose};

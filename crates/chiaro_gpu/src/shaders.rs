@@ -139,7 +139,7 @@ pub enum SharedConstant {
 /// Every constant of the generated module, with its Rust value.
 pub fn shared_constants() -> Vec<SharedConstant> {
     use SharedConstant::{F32, U32};
-    vec![
+    let mut all = vec![
         F32("PI", std::f32::consts::PI),
         F32("INV_PI", std::f32::consts::FRAC_1_PI),
         F32("MIRROR_ALPHA", chiaro_shading::brdf::MIRROR_ALPHA),
@@ -206,7 +206,9 @@ pub fn shared_constants() -> Vec<SharedConstant> {
             "PCG32_MULTIPLIER_HI",
             (chiaro_shading::rng::PCG32_MULTIPLIER >> 32) as u32,
         ),
-    ]
+    ];
+    all.extend(crate::gpu_scene::constants());
+    all
 }
 
 /// The source of `lib/generated.wgsl`: one `const` per [`shared_constants`] entry. Floats are

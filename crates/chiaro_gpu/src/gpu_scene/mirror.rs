@@ -1,0 +1,137 @@
+//! A storage buffer with a CPU copy of what it holds, so that an update writes only the
+//! element ranges that differ, and counts the bytes it wrote.
+
+use std::collections::BTreeMap;
+
+use bytemuck::Pod;
+
+/// Bytes and writes uploaded, in total and per buffer (by label).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct UploadStats {
+    /// Bytes written to GPU buffers.
+    pub bytes: u64,
+    /// `write_buffer` calls.
+    pub writes: u64,
+    /// Bytes per buffer label.
+    pub per_buffer: BTreeMap<&'static str, u64>,
+    /// Buffers created (first use or growth).
+    pub allocations: u64,
+}
+
+impl UploadStats {
+    /// Bytes written to the buffer labelled `label`.
+    pub fn bytes_of(&self, label: &str) -> u64 {
+        self.per_buffer.get(label).copied().unwrap_or(0)
+    }
+
+    /// The labels of the buffers that received any bytes.
+    pub fn written(&self) -> Vec<&'static str> {
+        self.per_buffer
+            .iter()
+            .filter(|(_, b)| **b > 0)
+            .map(|(l, _)| *l)
+            .collect()
+    }
+
+    fn record(&mut self, label: &'static str, bytes: u64) {
+        self.bytes += bytes;
+        self.writes += 1;
+        *self.per_buffer.entry(label).or_default() += bytes;
+    }
+}
+
+/// Two dirty ranges closer than this many elements are written as one.
+const MERGE_GAP: usize = 4;
+
+/// A storage buffer of `T` mirrored on the CPU.
+pub struct MirrorBuffer<T: Pod> {
+    label: &'static str,
+    usage: wgpu::BufferUsages,
+    buffer: wgpu::Buffer,
+    capacity: usize,
+    cpu: Vec<T>,
+}
+
+impl<T: Pod + PartialEq> MirrorBuffer<T> {
+    /// An empty buffer with room for one element (bindings may not be empty).
+    pub fn new(device: &wgpu::Device, label: &'static str, usage: wgpu::BufferUsages) -> Self {
+        let usage = usage | wgpu::BufferUsages::COPY_DST;
+        Self {
+            label,
+            usage,
+            buffer: Self::allocate(device, label, usage, 1),
+            capacity: 1,
+            cpu: Vec::new(),
+        }
+    }
+
+    fn allocate(
+        device: &wgpu::Device,
+        label: &'static str,
+        usage: wgpu::BufferUsages,
+        capacity: usize,
+    ) -> wgpu::Buffer {
+        device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: (capacity.max(1) * size_of::<T>()).max(16) as u64,
+            usage,
+            mapped_at_creation: false,
+        })
+    }
+
+    /// The GPU buffer (replaced when it grows: see [`MirrorBuffer::update`]).
+    pub fn buffer(&self) -> &wgpu::Buffer {
+        &self.buffer
+    }
+
+    /// What the GPU buffer holds.
+    pub fn contents(&self) -> &[T] {
+        &self.cpu
+    }
+
+    /// Makes the GPU buffer hold `data`, writing only the ranges that differ from what it
+    /// holds. Returns true when the buffer was reallocated (bind groups must be remade).
+    pub fn update(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        data: &[T],
+        stats: &mut UploadStats,
+    ) -> bool {
+        let element = size_of::<T>();
+        if data.len() > self.capacity {
+            self.capacity = data.len().next_power_of_two();
+            self.buffer = Self::allocate(device, self.label, self.usage, self.capacity);
+            stats.allocations += 1;
+            if !data.is_empty() {
+                queue.write_buffer(&self.buffer, 0, bytemuck::cast_slice(data));
+                stats.record(self.label, std::mem::size_of_val(data) as u64);
+            }
+            self.cpu = data.to_vec();
+            return true;
+        }
+        let mut i = 0;
+        while i < data.len() {
+            if self.cpu.get(i) == Some(&data[i]) {
+                i += 1;
+                continue;
+            }
+            let start = i;
+            let mut end = i + 1;
+            let mut j = end;
+            while j < data.len() && j < end + MERGE_GAP {
+                if self.cpu.get(j) != Some(&data[j]) {
+                    end = j + 1;
+                }
+                j += 1;
+            }
+            let bytes: &[u8] = bytemuck::cast_slice(&data[start..end]);
+            queue.write_buffer(&self.buffer, (start * element) as u64, bytes);
+            stats.record(self.label, bytes.len() as u64);
+            i = end;
+        }
+        self.cpu.clear();
+        self.cpu.extend_from_slice(data);
+        false
+    }
+}

@@ -1,0 +1,384 @@
+//! The scene on the GPU: one storage buffer per kind of data, bound as group(0) of every pass,
+//! kept in step with the ECS world by [`upload_gpu_scene`], which runs after the BVH systems
+//! and writes only what changed.
+//!
+//! Bindings of group(0) (`shaders/lib/bvh_bindings.wgsl` declares 0..3,
+//! `shaders/lib/scene_bindings.wgsl` the rest):
+//!
+//! | binding | buffer | record |
+//! |---|---|---|
+//! | 0 | BLAS nodes | obvhs `CwBvhNode` |
+//! | 1 | BLAS triangles | `chiaro_bvh::BvhTriangle` |
+//! | 2 | TLAS nodes | `chiaro_bvh::TlasNode` |
+//! | 3 | instances | `chiaro_bvh::GpuInstance` |
+//! | 8 | vertices | [`GpuVertex`] |
+//! | 9 | indices | `u32`, global vertex indices |
+//! | 10 | meshes | [`GpuMesh`] |
+//! | 11 | materials | [`GpuMaterial`] |
+//! | 12 | texels | `u32`, packed RGBA8 |
+//! | 13 | textures | [`GpuTextureInfo`] |
+//! | 14 | punctual lights | [`GpuLight`] |
+//! | 15 | area-light table | [`GpuAreaLight`] |
+//! | 16 | per-instance extras | [`GpuInstanceExtra`] |
+//! | 17 | environment texels | `vec4<f32>` |
+//! | 18 | environment importance table | `f32` |
+//! | 19 | scene info (uniform) | [`GpuSceneInfo`] |
+//!
+//! Textures live in one storage buffer of texels (an atlas in a buffer) rather than a texture
+//! array: an array needs every layer the same size (glTF textures differ, and resampling them
+//! would change the image against the CPU reference), a binding array needs features lavapipe
+//! and GL lack, and the shaders' bilinear lookup then mirrors the reference's texel for
+//! texel, in the compute passes and the rasterizer alike. The price is no hardware filtering
+//! and no mip-maps (the reference has none either).
+//!
+//! Change detection: each buffer is rebuilt on the CPU only when its source changed
+//! (`Meshes`, `Materials`, `Textures`, `Environment`, lights, `SceneBvh`), and a
+//! [`MirrorBuffer`] then writes only the element ranges that differ from what the GPU holds,
+//! so moving one instance writes that instance's record and the TLAS nodes that moved.
+
+mod gather;
+pub mod layout;
+mod mirror;
+
+use bevy_ecs::prelude::*;
+use chiaro_bvh::{BvhTriangle, CwBvhNode, GpuBvhBuffers, GpuInstance, SceneBvh, TlasNode};
+use chiaro_scene::{Environment, GlobalTransform, Light, Materials, Meshes, Textures};
+
+pub use layout::{
+    GpuAreaLight, GpuInstanceExtra, GpuLight, GpuMaterial, GpuMesh, GpuSceneInfo, GpuTextureInfo,
+    GpuTextureSlot, GpuVertex,
+};
+pub use mirror::{MirrorBuffer, UploadStats};
+
+/// The scene's GPU buffers (a resource of the world).
+#[derive(Resource)]
+pub struct GpuScene {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    layout: wgpu::BindGroupLayout,
+    bind_group: Option<wgpu::BindGroup>,
+    /// Bumped whenever the bind group is remade.
+    pub generation: u64,
+    blas_nodes: MirrorBuffer<CwBvhNode>,
+    triangles: MirrorBuffer<BvhTriangle>,
+    tlas_nodes: MirrorBuffer<TlasNode>,
+    instances: MirrorBuffer<GpuInstance>,
+    vertices: MirrorBuffer<GpuVertex>,
+    indices: MirrorBuffer<u32>,
+    meshes: MirrorBuffer<GpuMesh>,
+    materials: MirrorBuffer<GpuMaterial>,
+    texels: MirrorBuffer<u32>,
+    textures: MirrorBuffer<GpuTextureInfo>,
+    lights: MirrorBuffer<GpuLight>,
+    area_lights: MirrorBuffer<GpuAreaLight>,
+    instance_extras: MirrorBuffer<GpuInstanceExtra>,
+    env_texels: MirrorBuffer<[f32; 4]>,
+    env_table: MirrorBuffer<f32>,
+    info_buffer: MirrorBuffer<GpuSceneInfo>,
+    /// The scene info as uploaded.
+    pub info: GpuSceneInfo,
+    /// Every upload since the scene was made.
+    pub total: UploadStats,
+    /// The uploads of the last [`upload_gpu_scene`] run.
+    pub last: UploadStats,
+    uploaded: bool,
+    current_transforms: Vec<[[f32; 4]; 3]>,
+    area_first: Vec<u32>,
+}
+
+const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE;
+
+/// The bindings of group(0), in order, with whether each is the uniform.
+const BINDINGS: [(u32, bool); 16] = [
+    (0, false),
+    (1, false),
+    (2, false),
+    (3, false),
+    (8, false),
+    (9, false),
+    (10, false),
+    (11, false),
+    (12, false),
+    (13, false),
+    (14, false),
+    (15, false),
+    (16, false),
+    (17, false),
+    (18, false),
+    (19, true),
+];
+
+impl GpuScene {
+    /// Empty buffers on `device`; the first [`upload_gpu_scene`] fills them.
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Self {
+        let entries: Vec<_> = BINDINGS
+            .iter()
+            .map(|&(binding, uniform)| wgpu::BindGroupLayoutEntry {
+                binding,
+                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer {
+                    ty: if uniform {
+                        wgpu::BufferBindingType::Uniform
+                    } else {
+                        wgpu::BufferBindingType::Storage { read_only: true }
+                    },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            })
+            .collect();
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("scene bind group layout"),
+            entries: &entries,
+        });
+        let d = device;
+        Self {
+            device: device.clone(),
+            queue: queue.clone(),
+            layout,
+            bind_group: None,
+            generation: 0,
+            blas_nodes: MirrorBuffer::new(d, "scene blas nodes", STORAGE),
+            triangles: MirrorBuffer::new(d, "scene blas triangles", STORAGE),
+            tlas_nodes: MirrorBuffer::new(d, "scene tlas nodes", STORAGE),
+            instances: MirrorBuffer::new(d, "scene instances", STORAGE),
+            vertices: MirrorBuffer::new(d, "scene vertices", STORAGE),
+            indices: MirrorBuffer::new(d, "scene indices", STORAGE),
+            meshes: MirrorBuffer::new(d, "scene meshes", STORAGE),
+            materials: MirrorBuffer::new(d, "scene materials", STORAGE),
+            texels: MirrorBuffer::new(d, "scene texels", STORAGE),
+            textures: MirrorBuffer::new(d, "scene textures", STORAGE),
+            lights: MirrorBuffer::new(d, "scene lights", STORAGE),
+            area_lights: MirrorBuffer::new(d, "scene area lights", STORAGE),
+            instance_extras: MirrorBuffer::new(d, "scene instance extras", STORAGE),
+            env_texels: MirrorBuffer::new(d, "scene environment texels", STORAGE),
+            env_table: MirrorBuffer::new(d, "scene environment table", STORAGE),
+            info_buffer: MirrorBuffer::new(d, "scene info", wgpu::BufferUsages::UNIFORM),
+            info: GpuSceneInfo::default(),
+            total: UploadStats::default(),
+            last: UploadStats::default(),
+            uploaded: false,
+            current_transforms: Vec::new(),
+            area_first: Vec::new(),
+        }
+    }
+
+    /// The layout of group(0), for pipeline layouts.
+    pub fn layout(&self) -> &wgpu::BindGroupLayout {
+        &self.layout
+    }
+
+    /// The bind group of group(0) (after the first upload).
+    pub fn bind_group(&self) -> Option<&wgpu::BindGroup> {
+        self.bind_group.as_ref()
+    }
+
+    /// The materials as uploaded.
+    pub fn materials(&self) -> &[GpuMaterial] {
+        self.materials.contents()
+    }
+
+    /// The instances as uploaded.
+    pub fn instances(&self) -> &[GpuInstance] {
+        self.instances.contents()
+    }
+
+    fn buffers(&self) -> [&wgpu::Buffer; 16] {
+        [
+            self.blas_nodes.buffer(),
+            self.triangles.buffer(),
+            self.tlas_nodes.buffer(),
+            self.instances.buffer(),
+            self.vertices.buffer(),
+            self.indices.buffer(),
+            self.meshes.buffer(),
+            self.materials.buffer(),
+            self.texels.buffer(),
+            self.textures.buffer(),
+            self.lights.buffer(),
+            self.area_lights.buffer(),
+            self.instance_extras.buffer(),
+            self.env_texels.buffer(),
+            self.env_table.buffer(),
+            self.info_buffer.buffer(),
+        ]
+    }
+
+    fn remake_bind_group(&mut self) {
+        let buffers = self.buffers();
+        let entries: Vec<_> = BINDINGS
+            .iter()
+            .zip(buffers)
+            .map(|(&(binding, _), buffer)| wgpu::BindGroupEntry {
+                binding,
+                resource: buffer.as_entire_binding(),
+            })
+            .collect();
+        let group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("scene bind group"),
+            layout: &self.layout,
+            entries: &entries,
+        });
+        self.bind_group = Some(group);
+        self.generation += 1;
+    }
+}
+
+/// Writes `$data` into the mirror `$field`, noting a reallocation.
+macro_rules! put {
+    ($scene:ident, $stats:ident, $realloc:ident, $field:ident, $data:expr) => {{
+        let (d, q) = ($scene.device.clone(), $scene.queue.clone());
+        $realloc |= $scene.$field.update(&d, &q, $data, &mut $stats);
+    }};
+}
+
+/// Brings [`GpuScene`] in step with the world: each buffer whose source changed is rebuilt on
+/// the CPU and only its differing ranges are written; [`GpuScene::last`] counts what this run
+/// wrote. Runs after `chiaro_bvh::update_scene_bvh` (see [`add_gpu_scene_systems`]).
+#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+pub fn upload_gpu_scene(
+    scene: Option<ResMut<GpuScene>>,
+    bvh: Option<Res<SceneBvh>>,
+    meshes: Option<Res<Meshes>>,
+    materials: Option<Res<Materials>>,
+    textures: Option<Res<Textures>>,
+    environment: Option<Res<Environment>>,
+    lights: Query<(&Light, &GlobalTransform)>,
+    changed_lights: Query<(), (With<Light>, Or<(Changed<Light>, Changed<GlobalTransform>)>)>,
+    mut removed_lights: RemovedComponents<Light>,
+) {
+    let (Some(mut scene), Some(bvh)) = (scene, bvh) else {
+        return;
+    };
+    let scene = scene.bypass_change_detection();
+    let fresh = !scene.uploaded;
+    let mut stats = UploadStats::default();
+    let mut realloc = fresh;
+    let default_env = Environment::default();
+    let environment_ref = environment.as_deref().unwrap_or(&default_env);
+    let empty_meshes = Meshes::default();
+    let meshes_ref = meshes.as_deref().unwrap_or(&empty_meshes);
+    let empty_materials = Materials::default();
+    let materials_ref = materials.as_deref().unwrap_or(&empty_materials);
+
+    let bvh_changed = fresh || bvh.is_changed();
+    if bvh_changed {
+        let mut flat = GpuBvhBuffers::from_scene(&bvh);
+        if flat.tlas_nodes.is_empty() {
+            flat.tlas_nodes.push(TlasNode {
+                child: chiaro_bvh::TLAS_LEAF_BIT | 0x7fff_ffff,
+                ..TlasNode::default()
+            });
+        }
+        put!(scene, stats, realloc, blas_nodes, &flat.blas_nodes);
+        put!(scene, stats, realloc, triangles, &flat.triangles);
+        put!(scene, stats, realloc, tlas_nodes, &flat.tlas_nodes);
+        put!(scene, stats, realloc, instances, &flat.instances);
+    }
+    if fresh || meshes.as_ref().is_some_and(|m| m.is_changed()) {
+        let (vertices, indices, table) = gather::meshes(meshes_ref);
+        put!(scene, stats, realloc, vertices, &vertices);
+        put!(scene, stats, realloc, indices, &indices);
+        put!(scene, stats, realloc, meshes, &table);
+    }
+    let materials_changed = fresh || materials.as_ref().is_some_and(|m| m.is_changed());
+    if materials_changed {
+        put!(
+            scene,
+            stats,
+            realloc,
+            materials,
+            &gather::materials(materials_ref)
+        );
+    }
+    if fresh || textures.as_ref().is_some_and(|t| t.is_changed()) {
+        let (texels, table) = textures
+            .as_deref()
+            .map(gather::textures)
+            .unwrap_or_default();
+        put!(scene, stats, realloc, texels, &texels);
+        put!(scene, stats, realloc, textures, &table);
+    }
+    let env_changed = fresh || environment.as_ref().is_some_and(|e| e.is_changed());
+    let mut info = scene.info;
+    if env_changed {
+        let (texels, table) = gather::environment(environment_ref, &mut info);
+        put!(scene, stats, realloc, env_texels, &texels);
+        put!(scene, stats, realloc, env_table, &table);
+    }
+    let lights_changed =
+        !changed_lights.is_empty() || removed_lights.read().count() > 0 || bvh_changed;
+    if fresh || lights_changed {
+        let radius = gather::scene_radius(&bvh);
+        let table = gather::lights(lights.iter(), radius);
+        info.light_count = table.len() as u32;
+        put!(scene, stats, realloc, lights, &table);
+    }
+    if bvh_changed || materials_changed || env_changed {
+        let (table, first, env_pmf) =
+            gather::area_lights(&bvh, meshes_ref, materials_ref, environment_ref);
+        info.area_count = table.len() as u32;
+        info.env_pmf = env_pmf;
+        scene.area_first = first;
+        put!(scene, stats, realloc, area_lights, &table);
+    }
+    // The previous frame's transforms: what was current at the last run.
+    let previous = std::mem::take(&mut scene.current_transforms);
+    if bvh_changed {
+        scene.current_transforms = scene
+            .instances
+            .contents()
+            .iter()
+            .map(|i| i.object_to_world)
+            .collect();
+    } else {
+        scene.current_transforms = previous.clone();
+    }
+    let extras: Vec<GpuInstanceExtra> = scene
+        .instances
+        .contents()
+        .iter()
+        .enumerate()
+        .map(|(i, inst)| {
+            let m = inst.object_to_world;
+            let det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+                - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+                + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+            GpuInstanceExtra {
+                previous_object_to_world: previous.get(i).copied().unwrap_or(m),
+                area_first: scene.area_first.get(i).copied().unwrap_or(layout::NO_INDEX),
+                mirrored: u32::from(det < 0.0),
+                pad0: 0,
+                pad1: 0,
+            }
+        })
+        .collect();
+    put!(scene, stats, realloc, instance_extras, &extras);
+    info.instance_count = scene.instances.contents().len() as u32;
+    scene.info = info;
+    put!(scene, stats, realloc, info_buffer, &[info]);
+
+    if realloc {
+        scene.remake_bind_group();
+    }
+    scene.uploaded = true;
+    scene.total.bytes += stats.bytes;
+    scene.total.writes += stats.writes;
+    scene.total.allocations += stats.allocations;
+    for (label, bytes) in &stats.per_buffer {
+        *scene.total.per_buffer.entry(label).or_default() += bytes;
+    }
+    scene.last = stats;
+}
+
+/// Adds the BVH systems and [`upload_gpu_scene`] after them to `schedule`.
+pub fn add_gpu_scene_systems(schedule: &mut Schedule) {
+    chiaro_bvh::add_bvh_systems(schedule);
+    schedule.add_systems(upload_gpu_scene.after(chiaro_bvh::update_scene_bvh));
+}
+
+/// The generated constants of the scene layout.
+pub fn constants() -> Vec<crate::shaders::SharedConstant> {
+    layout::constants()
+}

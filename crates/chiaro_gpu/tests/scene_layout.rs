@@ -1,0 +1,182 @@
+//! The Rust records of the scene buffers and the WGSL structs that mirror them have the same
+//! size and the same field offsets, read from the WGSL through naga's layouter; the scene's
+//! own WGSL modules validate.
+
+use std::mem::{offset_of, size_of};
+
+use chiaro_bvh::{BvhTriangle, GpuInstance, TlasNode};
+use chiaro_gpu::gpu_scene::layout::*;
+use chiaro_gpu::shaders;
+
+/// A WGSL struct: name, size, (member name, offset) in order.
+type WgslStruct = (String, u32, Vec<(String, u32)>);
+
+/// Every named struct of the composed module `name`.
+fn wgsl_structs(name: &str) -> Vec<WgslStruct> {
+    let source = shaders::compose(name).unwrap();
+    let module = naga::front::wgsl::parse_str(&source).unwrap();
+    let mut layouter = naga::proc::Layouter::default();
+    layouter.update(module.to_ctx()).unwrap();
+    module
+        .types
+        .iter()
+        .filter_map(|(handle, ty)| match &ty.inner {
+            naga::TypeInner::Struct { members, span } => Some((
+                ty.name.clone()?,
+                {
+                    assert_eq!(layouter[handle].size, *span);
+                    *span
+                },
+                members
+                    .iter()
+                    .map(|m| (m.name.clone().unwrap_or_default(), m.offset))
+                    .collect(),
+            )),
+            _ => None,
+        })
+        .collect()
+}
+
+macro_rules! check {
+    ($structs:expr, $ty:ty, $wgsl:literal, [$($field:ident),* $(,)?]) => {{
+        let (_, size, members) = $structs
+            .iter()
+            .find(|(n, _, _)| n == $wgsl)
+            .unwrap_or_else(|| panic!("no WGSL struct {}", $wgsl));
+        assert_eq!(*size as usize, size_of::<$ty>(), "size of {}", $wgsl);
+        let names: Vec<&str> = members.iter().map(|(n, _)| n.as_str()).collect();
+        assert_eq!(names, [$(stringify!($field)),*], "members of {}", $wgsl);
+        $(
+            let offset = members.iter().find(|(n, _)| n == stringify!($field)).unwrap().1;
+            assert_eq!(offset as usize, offset_of!($ty, $field), "{}.{}", $wgsl, stringify!($field));
+        )*
+    }};
+}
+
+#[test]
+fn scene_records_match_their_wgsl_structs() {
+    let s = wgsl_structs("lib/scene_bindings.wgsl");
+    check!(
+        s,
+        GpuVertex,
+        "GpuVertex",
+        [position, u0, normal, v0, tangent, uv1, pad]
+    );
+    check!(
+        s,
+        GpuMesh,
+        "GpuMesh",
+        [index_base, vertex_base, triangle_count, flags]
+    );
+    check!(
+        s,
+        GpuTextureSlot,
+        "GpuTextureSlot",
+        [texture, uv_set, sampler, pad, transform_m, transform_t]
+    );
+    check!(
+        s,
+        GpuMaterial,
+        "GpuMaterial",
+        [
+            base_color,
+            emission,
+            alpha_cutoff,
+            metallic,
+            roughness,
+            f0_dielectric,
+            absorption,
+            normal_scale,
+            flags,
+            pad0,
+            pad1,
+            base_color_texture,
+            metallic_roughness_texture,
+            normal_texture,
+            emissive_texture
+        ]
+    );
+    check!(
+        s,
+        GpuTextureInfo,
+        "GpuTextureInfo",
+        [offset, width, height, srgb]
+    );
+    check!(
+        s,
+        GpuLight,
+        "GpuLight",
+        [
+            position, kind, direction, range, intensity, cdf, inner, outer, pmf, pad
+        ]
+    );
+    check!(
+        s,
+        GpuAreaLight,
+        "GpuAreaLight",
+        [instance, triangle, cdf, pmf]
+    );
+    check!(
+        s,
+        GpuInstanceExtra,
+        "GpuInstanceExtra",
+        [previous_object_to_world, area_first, mirrored, pad0, pad1]
+    );
+    check!(
+        s,
+        GpuSceneInfo,
+        "GpuSceneInfo",
+        [
+            env_radiance,
+            env_kind,
+            env_width,
+            env_height,
+            env_cos_rotation,
+            env_sin_rotation,
+            light_count,
+            area_count,
+            env_pmf,
+            instance_count
+        ]
+    );
+    // The BVH records the scene bind group also carries.
+    check!(s, TlasNode, "TlasNode", [min, child, max, kappa]);
+    check!(
+        s,
+        BvhTriangle,
+        "BvhTriangle",
+        [v0, triangle, v1, pad0, v2, pad1]
+    );
+    check!(
+        s,
+        GpuInstance,
+        "GpuInstance",
+        [
+            world_to_object,
+            object_to_world,
+            blas_root,
+            mesh,
+            material,
+            mesh_magnitude
+        ]
+    );
+}
+
+#[test]
+fn scene_modules_validate() {
+    for name in [
+        "lib/scene_bindings.wgsl",
+        "lib/textures.wgsl",
+        "lib/alpha.wgsl",
+    ] {
+        let source = shaders::compose(name).unwrap();
+        let module = naga::front::wgsl::parse_str(&source)
+            .unwrap_or_else(|e| panic!("{}", e.emit_to_string_with_path(&source, name)));
+        naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::default(),
+        )
+        .validate(&module)
+        .unwrap_or_else(|e| panic!("{}", e.emit_to_string_with_path(&source, name)));
+    }
+}

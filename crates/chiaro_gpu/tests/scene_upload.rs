@@ -1,0 +1,85 @@
+//! Change-driven upload: the first frame uploads the scene, a frame with no change uploads
+//! nothing, moving one instance writes that instance and the TLAS nodes only (and, a frame
+//! later, its previous-frame transform), and a material edit writes that material only.
+
+mod common;
+
+use bevy_ecs::prelude::*;
+use chiaro_gpu::{GpuScene, add_gpu_scene_systems};
+use chiaro_scene::{Materials, MeshInstance, Transform, load_scene};
+use glam::Vec3;
+
+fn last(world: &World) -> chiaro_gpu::UploadStats {
+    world.resource::<GpuScene>().last.clone()
+}
+
+#[test]
+fn uploads_follow_changes_only() {
+    let Some(gpu) = common::gpu() else { return };
+    let mut world = World::new();
+    load_scene(&mut world, "builtin:cornell").unwrap();
+    world.insert_resource(GpuScene::new(&gpu.device, &gpu.queue));
+    let mut schedule = Schedule::default();
+    add_gpu_scene_systems(&mut schedule);
+
+    schedule.run(&mut world);
+    let first = last(&world);
+    assert!(first.bytes > 5_000, "first frame uploaded {first:?}");
+    for label in ["scene vertices", "scene blas nodes", "scene materials"] {
+        assert!(first.bytes_of(label) > 0, "{label} not uploaded");
+    }
+    assert!(world.resource::<GpuScene>().bind_group().is_some());
+
+    schedule.run(&mut world);
+    assert_eq!(last(&world).bytes, 0, "{:?}", last(&world));
+
+    // Move one instance that does not emit.
+    let materials = world.resource::<Materials>();
+    let dark: Vec<bool> = (0..materials.len() as u32)
+        .map(|i| {
+            !materials
+                .get(chiaro_scene::MaterialId(i))
+                .unwrap()
+                .is_emissive()
+        })
+        .collect();
+    let mut query = world.query::<(Entity, &MeshInstance)>();
+    let (entity, _) = query
+        .iter(&world)
+        .find(|(_, mi)| dark[mi.material.0 as usize])
+        .expect("the Cornell box has a non-emissive instance");
+    world.get_mut::<Transform>(entity).unwrap().translation += Vec3::new(0.01, 0.0, 0.0);
+    schedule.run(&mut world);
+    let moved = last(&world);
+    assert_eq!(
+        moved.written(),
+        ["scene instances", "scene tlas nodes"],
+        "{moved:?}"
+    );
+    assert_eq!(
+        moved.bytes_of("scene instances"),
+        size_of::<chiaro_bvh::GpuInstance>() as u64
+    );
+    let tlas = world.resource::<GpuScene>().instances().len() * 2 - 1;
+    assert!(moved.bytes_of("scene tlas nodes") <= (tlas * 32) as u64);
+
+    // The next frame records the moved instance's new transform as the previous one.
+    schedule.run(&mut world);
+    let after = last(&world);
+    assert_eq!(after.written(), ["scene instance extras"], "{after:?}");
+    assert_eq!(after.bytes, 64);
+
+    schedule.run(&mut world);
+    assert_eq!(last(&world).bytes, 0);
+
+    // A material edit rewrites that material's record only.
+    world
+        .resource_mut::<Materials>()
+        .get_mut(chiaro_scene::MaterialId(0))
+        .unwrap()
+        .roughness = 0.25;
+    schedule.run(&mut world);
+    let edited = last(&world);
+    assert_eq!(edited.written(), ["scene materials"], "{edited:?}");
+    assert_eq!(edited.bytes, 256);
+}

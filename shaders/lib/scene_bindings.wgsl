@@ -1,0 +1,165 @@
+// The scene part of group(0) beyond the BVH (bindings 8..19), mirroring the records of
+// chiaro_gpu::gpu_scene::layout field for field (a test compares the layouts through naga).
+// Also the accessors environment.wgsl asks its importer for.
+
+#import lib/generated.wgsl
+#import lib/bvh_bindings.wgsl
+
+// chiaro_gpu::GpuVertex: object-space vertex.
+struct GpuVertex {
+    position: vec3<f32>,
+    u0: f32,
+    normal: vec3<f32>,
+    v0: f32,
+    tangent: vec4<f32>,
+    uv1: vec2<f32>,
+    pad: vec2<f32>,
+}
+
+// chiaro_gpu::GpuMesh: triangle t of the mesh uses scene_indices[index_base + 3 t + k],
+// which are global vertex indices.
+struct GpuMesh {
+    index_base: u32,
+    vertex_base: u32,
+    triangle_count: u32,
+    flags: u32,
+}
+
+// chiaro_gpu::GpuTextureSlot: texture NO_INDEX when empty; sampler bits: wrap U (bits 0..2),
+// wrap V (bits 2..4), SAMPLER_NEAREST.
+struct GpuTextureSlot {
+    texture: u32,
+    uv_set: u32,
+    sampler: u32,
+    pad: u32,
+    transform_m: vec4<f32>,
+    transform_t: vec4<f32>,
+}
+
+// chiaro_gpu::GpuMaterial.
+struct GpuMaterial {
+    base_color: vec4<f32>,
+    emission: vec3<f32>,
+    alpha_cutoff: f32,
+    metallic: f32,
+    roughness: f32,
+    f0_dielectric: f32,
+    absorption: f32,
+    normal_scale: f32,
+    flags: u32,
+    pad0: u32,
+    pad1: u32,
+    base_color_texture: GpuTextureSlot,
+    metallic_roughness_texture: GpuTextureSlot,
+    normal_texture: GpuTextureSlot,
+    emissive_texture: GpuTextureSlot,
+}
+
+// chiaro_gpu::GpuTextureInfo: texel (x, y) is scene_texels[offset + y * width + x], RGBA8.
+struct GpuTextureInfo {
+    offset: u32,
+    width: u32,
+    height: u32,
+    srgb: u32,
+}
+
+// chiaro_gpu::GpuLight: a punctual light. range 0: unlimited.
+struct GpuLight {
+    position: vec3<f32>,
+    kind: u32,
+    direction: vec3<f32>,
+    range: f32,
+    intensity: vec3<f32>,
+    cdf: f32,
+    inner: f32,
+    outer: f32,
+    pmf: f32,
+    pad: u32,
+}
+
+// chiaro_gpu::GpuAreaLight: an emissive triangle, or the environment (instance NO_INDEX).
+struct GpuAreaLight {
+    instance: u32,
+    triangle: u32,
+    cdf: f32,
+    pmf: f32,
+}
+
+// chiaro_gpu::GpuInstanceExtra.
+struct GpuInstanceExtra {
+    previous_object_to_world: array<vec4<f32>, 3>,
+    area_first: u32,
+    mirrored: u32,
+    pad0: u32,
+    pad1: u32,
+}
+
+// chiaro_gpu::GpuSceneInfo.
+struct GpuSceneInfo {
+    env_radiance: vec3<f32>,
+    env_kind: u32,
+    env_width: u32,
+    env_height: u32,
+    env_cos_rotation: f32,
+    env_sin_rotation: f32,
+    light_count: u32,
+    area_count: u32,
+    env_pmf: f32,
+    instance_count: u32,
+}
+
+@group(0) @binding(8) var<storage, read> scene_vertices: array<GpuVertex>;
+@group(0) @binding(9) var<storage, read> scene_indices: array<u32>;
+@group(0) @binding(10) var<storage, read> scene_meshes: array<GpuMesh>;
+@group(0) @binding(11) var<storage, read> scene_materials: array<GpuMaterial>;
+@group(0) @binding(12) var<storage, read> scene_texels: array<u32>;
+@group(0) @binding(13) var<storage, read> scene_textures: array<GpuTextureInfo>;
+@group(0) @binding(14) var<storage, read> scene_lights: array<GpuLight>;
+@group(0) @binding(15) var<storage, read> scene_area_lights: array<GpuAreaLight>;
+@group(0) @binding(16) var<storage, read> scene_instance_extras: array<GpuInstanceExtra>;
+@group(0) @binding(17) var<storage, read> scene_env_texels: array<vec4<f32>>;
+@group(0) @binding(18) var<storage, read> scene_env_table: array<f32>;
+@group(0) @binding(19) var<uniform> scene_info: GpuSceneInfo;
+
+// The environment image's importance table (chiaro_gpu::gpu_scene::gather::environment):
+// marginal CDF at 0 (height + 1), marginal masses at height + 1, conditional CDFs at
+// 2 height + 1 (width + 1 per row), conditional masses after them (width per row).
+fn env_texel(column: u32, row: u32) -> vec3<f32> {
+    return scene_env_texels[row * scene_info.env_width + column].xyz;
+}
+
+fn env_marginal_cdf(i: u32) -> f32 {
+    return scene_env_table[i];
+}
+
+fn env_marginal_pmf(row: u32) -> f32 {
+    return scene_env_table[scene_info.env_height + 1u + row];
+}
+
+fn env_conditional_cdf(row: u32, i: u32) -> f32 {
+    return scene_env_table[2u * scene_info.env_height + 1u + row * (scene_info.env_width + 1u) + i];
+}
+
+fn env_conditional_pmf(row: u32, column: u32) -> f32 {
+    let h = scene_info.env_height;
+    let w = scene_info.env_width;
+    return scene_env_table[2u * h + 1u + h * (w + 1u) + row * w + column];
+}
+
+// The three global vertex indices of triangle `triangle` of mesh `mesh`.
+fn scene_triangle_indices(mesh: u32, triangle: u32) -> vec3<u32> {
+    let base = scene_meshes[mesh].index_base + 3u * triangle;
+    return vec3<u32>(scene_indices[base], scene_indices[base + 1u], scene_indices[base + 2u]);
+}
+
+// The UVs (set 0 in xy, set 1 in zw) at barycentrics b (of vertices 1 and 2) of a triangle.
+fn scene_uvs(indices: vec3<u32>, b: vec2<f32>) -> vec4<f32> {
+    let v0 = scene_vertices[indices.x];
+    let v1 = scene_vertices[indices.y];
+    let v2 = scene_vertices[indices.z];
+    let w = vec3<f32>(1.0 - b.x - b.y, b.x, b.y);
+    let uv0 = vec2<f32>(v0.u0, v0.v0) * w.x + vec2<f32>(v1.u0, v1.v0) * w.y
+        + vec2<f32>(v2.u0, v2.v0) * w.z;
+    let uv1 = v0.uv1 * w.x + v1.uv1 * w.y + v2.uv1 * w.z;
+    return vec4<f32>(uv0, uv1);
+}
