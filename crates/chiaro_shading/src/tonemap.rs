@@ -41,47 +41,102 @@ pub fn exposure_from_ev(ev: f32) -> f32 {
     ev.exp2()
 }
 
-/// Hill's input matrix, sRGB -> ACES AP1 with the RRT saturation folded in. Rows as printed in
-/// ACES.hlsl (each row sums to 1, so grey stays grey); glam matrices are column-major, hence the
-/// transpose.
-fn aces_input() -> Mat3 {
-    Mat3::from_cols_array(&[
-        0.597_19, 0.354_58, 0.048_23, //
-        0.076_00, 0.908_34, 0.015_66, //
-        0.028_40, 0.133_83, 0.837_77,
-    ])
-    .transpose()
-}
+/// Hill's input matrix, sRGB -> ACES AP1 with the RRT saturation folded in, rows as printed in
+/// ACES.hlsl (each row sums to 1, so grey stays grey).
+pub const ACES_INPUT: [[f32; 3]; 3] = [
+    [0.597_19, 0.354_58, 0.048_23],
+    [0.076_00, 0.908_34, 0.015_66],
+    [0.028_40, 0.133_83, 0.837_77],
+];
 
-/// Hill's output matrix, ODT AP1 -> sRGB (rows as printed; transposed for glam).
-fn aces_output() -> Mat3 {
-    Mat3::from_cols_array(&[
-        1.604_75, -0.531_08, -0.073_67, //
-        -0.102_08, 1.108_13, -0.006_05, //
-        -0.003_27, -0.072_76, 1.076_02,
-    ])
-    .transpose()
+/// Hill's output matrix, ODT AP1 -> sRGB, rows as printed.
+pub const ACES_OUTPUT: [[f32; 3]; 3] = [
+    [1.604_75, -0.531_08, -0.073_67],
+    [-0.102_08, 1.108_13, -0.006_05],
+    [-0.003_27, -0.072_76, 1.076_02],
+];
+
+/// Hill's rational fit of the RRT + ODT tone curve, (v (v + a) - b) / (v (c v + d) + e), as
+/// [a, b, c, d, e].
+pub const ACES_FIT: [f32; 5] = [0.024_578_6, 0.000_090_537, 0.983_729, 0.432_951, 0.238_081];
+
+/// Khronos PBR Neutral: where highlight compression starts (0.8 - 0.04).
+pub const PBR_NEUTRAL_START_COMPRESSION: f32 = 0.8 - 0.04;
+/// Khronos PBR Neutral: desaturation toward white of compressed highlights.
+pub const PBR_NEUTRAL_DESATURATION: f32 = 0.15;
+/// Khronos PBR Neutral: below this smallest channel the toe offset x - 6.25 x^2 applies.
+pub const PBR_NEUTRAL_TOE_END: f32 = 0.08;
+/// Khronos PBR Neutral: the toe's quadratic coefficient.
+pub const PBR_NEUTRAL_TOE_SCALE: f32 = 6.25;
+/// Khronos PBR Neutral: the offset above the toe.
+pub const PBR_NEUTRAL_OFFSET: f32 = 0.04;
+
+/// Every number of the curves above by name, for mirrors of these curves (the WGSL tonemap
+/// reads them from generated constants): ACES_INPUT_RC / ACES_OUTPUT_RC (row R, column C),
+/// ACES_FIT_A..E, and the PBR Neutral constants.
+pub const CURVE_CONSTANTS: [(&str, f32); 28] = [
+    ("ACES_INPUT_00", ACES_INPUT[0][0]),
+    ("ACES_INPUT_01", ACES_INPUT[0][1]),
+    ("ACES_INPUT_02", ACES_INPUT[0][2]),
+    ("ACES_INPUT_10", ACES_INPUT[1][0]),
+    ("ACES_INPUT_11", ACES_INPUT[1][1]),
+    ("ACES_INPUT_12", ACES_INPUT[1][2]),
+    ("ACES_INPUT_20", ACES_INPUT[2][0]),
+    ("ACES_INPUT_21", ACES_INPUT[2][1]),
+    ("ACES_INPUT_22", ACES_INPUT[2][2]),
+    ("ACES_OUTPUT_00", ACES_OUTPUT[0][0]),
+    ("ACES_OUTPUT_01", ACES_OUTPUT[0][1]),
+    ("ACES_OUTPUT_02", ACES_OUTPUT[0][2]),
+    ("ACES_OUTPUT_10", ACES_OUTPUT[1][0]),
+    ("ACES_OUTPUT_11", ACES_OUTPUT[1][1]),
+    ("ACES_OUTPUT_12", ACES_OUTPUT[1][2]),
+    ("ACES_OUTPUT_20", ACES_OUTPUT[2][0]),
+    ("ACES_OUTPUT_21", ACES_OUTPUT[2][1]),
+    ("ACES_OUTPUT_22", ACES_OUTPUT[2][2]),
+    ("ACES_FIT_A", ACES_FIT[0]),
+    ("ACES_FIT_B", ACES_FIT[1]),
+    ("ACES_FIT_C", ACES_FIT[2]),
+    ("ACES_FIT_D", ACES_FIT[3]),
+    ("ACES_FIT_E", ACES_FIT[4]),
+    (
+        "PBR_NEUTRAL_START_COMPRESSION",
+        PBR_NEUTRAL_START_COMPRESSION,
+    ),
+    ("PBR_NEUTRAL_DESATURATION", PBR_NEUTRAL_DESATURATION),
+    ("PBR_NEUTRAL_TOE_END", PBR_NEUTRAL_TOE_END),
+    ("PBR_NEUTRAL_TOE_SCALE", PBR_NEUTRAL_TOE_SCALE),
+    ("PBR_NEUTRAL_OFFSET", PBR_NEUTRAL_OFFSET),
+];
+
+/// A matrix from its rows (glam matrices are column-major, hence the transpose).
+fn from_rows(rows: &[[f32; 3]; 3]) -> Mat3 {
+    Mat3::from_cols_array_2d(rows).transpose()
 }
 
 /// Hill's rational fit of the RRT + ODT tone curve, per channel.
 fn rrt_and_odt_fit(v: Vec3) -> Vec3 {
-    let a = v * (v + 0.024_578_6) - 0.000_090_537;
-    let b = v * (0.983_729 * v + 0.432_951) + 0.238_081;
+    let [fa, fb, fc, fd, fe] = ACES_FIT;
+    let a = v * (v + fa) - fb;
+    let b = v * (fc * v + fd) + fe;
     a / b
 }
 
 fn aces_fitted(c: Vec3) -> Vec3 {
-    let v = aces_input() * c;
+    let v = from_rows(&ACES_INPUT) * c;
     let v = rrt_and_odt_fit(v);
-    aces_output() * v
+    from_rows(&ACES_OUTPUT) * v
 }
 
 /// Khronos PBR Neutral, as in the specification's reference code.
 fn pbr_neutral(mut color: Vec3) -> Vec3 {
-    const START_COMPRESSION: f32 = 0.8 - 0.04;
-    const DESATURATION: f32 = 0.15;
+    const START_COMPRESSION: f32 = PBR_NEUTRAL_START_COMPRESSION;
+    const DESATURATION: f32 = PBR_NEUTRAL_DESATURATION;
     let x = color.min_element();
-    let offset = if x < 0.08 { x - 6.25 * x * x } else { 0.04 };
+    let offset = if x < PBR_NEUTRAL_TOE_END {
+        x - PBR_NEUTRAL_TOE_SCALE * x * x
+    } else {
+        PBR_NEUTRAL_OFFSET
+    };
     color -= Vec3::splat(offset);
     let peak = color.max_element();
     if peak < START_COMPRESSION {
