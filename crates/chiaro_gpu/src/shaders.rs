@@ -208,6 +208,11 @@ pub fn shared_constants() -> Vec<SharedConstant> {
         ),
     ];
     all.extend(crate::gpu_scene::constants());
+    all.extend(
+        chiaro_shading::tonemap::CURVE_CONSTANTS
+            .iter()
+            .map(|&(name, value)| F32(name, value)),
+    );
     all
 }
 
