@@ -63,7 +63,7 @@ struct GpuTextureInfo {
     srgb: u32,
 }
 
-// chiaro_gpu::GpuLight: a punctual light. range 0: unlimited.
+// chiaro_gpu::GpuLight: a punctual light. range +infinity: unlimited.
 struct GpuLight {
     position: vec3<f32>,
     kind: u32,

@@ -7,9 +7,12 @@
 
 #![warn(missing_docs)]
 
+pub mod camera;
 pub mod context;
 pub mod gpu_scene;
+pub mod passes;
 pub mod shaders;
+pub mod targets;
 
 pub use context::{ContextError, GpuContext};
 pub use gpu_scene::{GpuScene, UploadStats, add_gpu_scene_systems, upload_gpu_scene};

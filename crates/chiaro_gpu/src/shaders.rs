@@ -208,6 +208,10 @@ pub fn shared_constants() -> Vec<SharedConstant> {
         ),
     ];
     all.extend(crate::gpu_scene::constants());
+    all.push(F32(
+        "SHADOW_RAY_REACH",
+        crate::passes::direct::SHADOW_RAY_REACH,
+    ));
     all.extend(
         chiaro_shading::tonemap::CURVE_CONSTANTS
             .iter()

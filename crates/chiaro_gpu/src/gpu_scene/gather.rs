@@ -175,7 +175,7 @@ pub fn lights<'a>(
         let mut record = GpuLight {
             position: global.translation().to_array(),
             direction: axis.to_array(),
-            range: light.range.unwrap_or(0.0),
+            range: light.range.unwrap_or(f32::INFINITY),
             intensity: intensity.to_array(),
             ..GpuLight::default()
         };

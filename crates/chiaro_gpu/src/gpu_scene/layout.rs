@@ -191,7 +191,7 @@ pub struct GpuLight {
     pub kind: u32,
     /// Unit axis a spot points along, or the direction a directional light travels.
     pub direction: [f32; 3],
-    /// Range; 0 when unlimited.
+    /// Range; +infinity when unlimited.
     pub range: f32,
     /// Colour x intensity (candela, or lux for directional lights).
     pub intensity: [f32; 3],

@@ -179,6 +179,11 @@ impl GpuScene {
         self.materials.contents()
     }
 
+    /// The mesh table as uploaded.
+    pub fn meshes(&self) -> &[GpuMesh] {
+        self.meshes.contents()
+    }
+
     /// The instances as uploaded.
     pub fn instances(&self) -> &[GpuInstance] {
         self.instances.contents()

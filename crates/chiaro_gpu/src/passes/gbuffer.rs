@@ -1,0 +1,154 @@
+//! `gbuffer`: rasterizes every instance (vertices pulled from the scene buffers, one draw per
+//! instance) into the G-buffer targets: position and view distance, normals, base colour,
+//! metallic, roughness, emission, instance id and motion vectors, plus depth. No face is
+//! culled: a back face of a single-sided material is drawn and marked as not shading, as the
+//! CPU reference treats it.
+
+use crate::gpu_scene::GpuScene;
+use crate::shaders::ShaderError;
+use crate::targets::{self, FrameTargets};
+
+/// The G-buffer pass.
+pub struct GbufferPass {
+    pipeline: wgpu::RenderPipeline,
+    camera_layout: wgpu::BindGroupLayout,
+}
+
+impl GbufferPass {
+    /// The pipeline for the scene's bind-group layout.
+    pub fn new(device: &wgpu::Device, scene: &GpuScene) -> Result<Self, ShaderError> {
+        let module = super::shader_module(device, "gbuffer.wgsl")?;
+        let camera_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("gbuffer camera layout"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                ty: super::uniform(),
+                count: None,
+            }],
+        });
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("gbuffer pipeline layout"),
+            bind_group_layouts: &[Some(scene.layout()), Some(&camera_layout)],
+            immediate_size: 0,
+        });
+        let target = |format| {
+            Some(wgpu::ColorTargetState {
+                format,
+                blend: None,
+                write_mask: wgpu::ColorWrites::ALL,
+            })
+        };
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("gbuffer pipeline"),
+            layout: Some(&layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_main"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState {
+                cull_mode: None,
+                ..Default::default()
+            },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: targets::DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_main"),
+                compilation_options: Default::default(),
+                targets: &[
+                    target(targets::POSITION_FORMAT),
+                    target(targets::SURFACE_FORMAT),
+                    target(targets::EMISSION_FORMAT),
+                    target(targets::MOTION_FORMAT),
+                ],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        Ok(Self {
+            pipeline,
+            camera_layout,
+        })
+    }
+
+    /// The bind group of the camera uniform.
+    pub fn camera_bind_group(
+        &self,
+        device: &wgpu::Device,
+        camera: &wgpu::Buffer,
+    ) -> wgpu::BindGroup {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("gbuffer camera bind group"),
+            layout: &self.camera_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: camera.as_entire_binding(),
+            }],
+        })
+    }
+
+    /// Records the pass.
+    pub fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &GpuScene,
+        camera: &wgpu::BindGroup,
+        targets: &FrameTargets,
+        timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+    ) {
+        let clear = |view| {
+            Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })
+        };
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("gbuffer pass"),
+            color_attachments: &[
+                clear(&targets.position.view),
+                clear(&targets.surface.view),
+                clear(&targets.emission.view),
+                clear(&targets.motion.view),
+            ],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &targets.depth.view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: timestamps,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        let Some(scene_group) = scene.bind_group() else {
+            return;
+        };
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, scene_group, &[]);
+        pass.set_bind_group(1, camera, &[]);
+        let meshes = scene.meshes();
+        for (i, instance) in scene.instances().iter().enumerate() {
+            let Some(mesh) = meshes.get(instance.mesh as usize) else {
+                continue;
+            };
+            let i = i as u32;
+            pass.draw(0..3 * mesh.triangle_count, i..i + 1);
+        }
+    }
+}

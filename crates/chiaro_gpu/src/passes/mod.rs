@@ -1,0 +1,94 @@
+//! The frame's passes, one file each with one `shaders/NAME.wgsl`, and what they share:
+//! shader modules from composed WGSL and bind-group layout entries.
+
+pub mod composite;
+pub mod direct;
+pub mod gbuffer;
+pub mod tonemap;
+
+use crate::shaders::{self, ShaderError};
+
+/// The shader module of `name` (composed with its imports), labelled with its name.
+pub fn shader_module(device: &wgpu::Device, name: &str) -> Result<wgpu::ShaderModule, ShaderError> {
+    let source = shaders::compose(name)?;
+    Ok(device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(name),
+        source: wgpu::ShaderSource::Wgsl(source.into()),
+    }))
+}
+
+/// A bind-group layout entry for a compute shader.
+pub fn compute_entry(binding: u32, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty,
+        count: None,
+    }
+}
+
+/// A uniform buffer binding.
+pub fn uniform() -> wgpu::BindingType {
+    wgpu::BindingType::Buffer {
+        ty: wgpu::BufferBindingType::Uniform,
+        has_dynamic_offset: false,
+        min_binding_size: None,
+    }
+}
+
+/// A storage buffer binding.
+pub fn storage(read_only: bool) -> wgpu::BindingType {
+    wgpu::BindingType::Buffer {
+        ty: wgpu::BufferBindingType::Storage { read_only },
+        has_dynamic_offset: false,
+        min_binding_size: None,
+    }
+}
+
+/// A 2D texture read with `textureLoad`.
+pub fn texture(sample_type: wgpu::TextureSampleType) -> wgpu::BindingType {
+    wgpu::BindingType::Texture {
+        sample_type,
+        view_dimension: wgpu::TextureViewDimension::D2,
+        multisampled: false,
+    }
+}
+
+/// A write-only 2D storage texture.
+pub fn storage_texture(format: wgpu::TextureFormat) -> wgpu::BindingType {
+    wgpu::BindingType::StorageTexture {
+        access: wgpu::StorageTextureAccess::WriteOnly,
+        format,
+        view_dimension: wgpu::TextureViewDimension::D2,
+    }
+}
+
+/// A compute pipeline of entry point `main` of `shader` over `layouts`.
+pub fn compute_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    shader: &str,
+    layouts: &[Option<&wgpu::BindGroupLayout>],
+) -> Result<wgpu::ComputePipeline, ShaderError> {
+    let module = shader_module(device, shader)?;
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(label),
+        bind_group_layouts: layouts,
+        immediate_size: 0,
+    });
+    Ok(
+        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(label),
+            layout: Some(&layout),
+            module: &module,
+            entry_point: Some("main"),
+            compilation_options: Default::default(),
+            cache: None,
+        }),
+    )
+}
+
+/// Workgroups of 8 x 8 covering `width` x `height`.
+pub fn workgroups(width: u32, height: u32) -> (u32, u32) {
+    (width.div_ceil(8), height.div_ceil(8))
+}

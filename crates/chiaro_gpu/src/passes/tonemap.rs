@@ -1,0 +1,108 @@
+//! `tonemap`: the HDR image through a tonemapping operator and the sRGB transfer function
+//! into the 8-bit image.
+
+use bytemuck::{Pod, Zeroable};
+use chiaro_shading::tonemap::Tonemapper;
+
+use crate::shaders::ShaderError;
+use crate::targets::{FrameTargets, LDR_FORMAT};
+
+/// The pass's uniform (mirrored by `TonemapParams` in `shaders/tonemap.wgsl`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+#[repr(C)]
+pub struct TonemapParams {
+    /// 0 ACES fitted, 1 PBR Neutral, 2 clamp.
+    pub operator: u32,
+    /// Multiplies the linear radiance first.
+    pub exposure: f32,
+    /// Padding.
+    pub pad: [u32; 2],
+}
+
+impl TonemapParams {
+    /// The parameters for `tonemapper` at `exposure`.
+    pub fn new(tonemapper: Tonemapper, exposure: f32) -> Self {
+        let operator = match tonemapper {
+            Tonemapper::AcesFitted => 0,
+            Tonemapper::PbrNeutral => 1,
+            Tonemapper::Clamp => 2,
+        };
+        Self {
+            operator,
+            exposure,
+            pad: [0; 2],
+        }
+    }
+}
+
+/// The tonemap pass.
+pub struct TonemapPass {
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+}
+
+impl TonemapPass {
+    /// The pipeline.
+    pub fn new(device: &wgpu::Device) -> Result<Self, ShaderError> {
+        use super::{compute_entry as e, texture, uniform};
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("tonemap layout"),
+            entries: &[
+                e(
+                    0,
+                    texture(wgpu::TextureSampleType::Float { filterable: false }),
+                ),
+                e(1, uniform()),
+                e(2, super::storage_texture(LDR_FORMAT)),
+            ],
+        });
+        let pipeline =
+            super::compute_pipeline(device, "tonemap pipeline", "tonemap.wgsl", &[Some(&layout)])?;
+        Ok(Self { pipeline, layout })
+    }
+
+    /// The pass's bind group.
+    pub fn bind_group(
+        &self,
+        device: &wgpu::Device,
+        targets: &FrameTargets,
+        params: &wgpu::Buffer,
+    ) -> wgpu::BindGroup {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("tonemap bind group"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&targets.hdr.view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: params.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::TextureView(&targets.ldr.view),
+                },
+            ],
+        })
+    }
+
+    /// Records the pass.
+    pub fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        group: &wgpu::BindGroup,
+        targets: &FrameTargets,
+        timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("tonemap pass"),
+            timestamp_writes: timestamps,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, group, &[]);
+        let (x, y) = super::workgroups(targets.width, targets.height);
+        pass.dispatch_workgroups(x, y, 1);
+    }
+}

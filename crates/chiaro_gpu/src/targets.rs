@@ -1,0 +1,109 @@
+//! The frame's render targets and images: the G-buffer, the direct light of the frame, the
+//! accumulated HDR image and the tonemapped LDR image, all at the output size.
+
+/// Format of the G-buffer's position target (world xyz, roughness).
+pub const POSITION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// Format of the G-buffer's surface target (normals, base colour, metallic).
+pub const SURFACE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
+/// Format of the G-buffer's emission target (emission, instance, shading flag).
+pub const EMISSION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
+/// Format of the G-buffer's motion vectors (pixels to the previous frame's position).
+pub const MOTION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
+/// Depth format.
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// Format of the HDR images.
+pub const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// Format of the LDR image.
+pub const LDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+
+/// A texture and its default view.
+pub struct Target {
+    /// The texture.
+    pub texture: wgpu::Texture,
+    /// Its view.
+    pub view: wgpu::TextureView,
+}
+
+impl Target {
+    fn new(
+        device: &wgpu::Device,
+        label: &str,
+        format: wgpu::TextureFormat,
+        size: (u32, u32),
+        usage: wgpu::TextureUsages,
+    ) -> Self {
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d {
+                width: size.0,
+                height: size.1,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage,
+            view_formats: &[],
+        });
+        let view = texture.create_view(&wgpu::TextureViewDescriptor {
+            label: Some(label),
+            ..Default::default()
+        });
+        Self { texture, view }
+    }
+}
+
+/// Every image of a frame.
+pub struct FrameTargets {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// G-buffer: world position and roughness.
+    pub position: Target,
+    /// G-buffer: normals, base colour, metallic.
+    pub surface: Target,
+    /// G-buffer: emission, instance id + 1 (0: nothing drawn) with the shading flag.
+    pub emission: Target,
+    /// G-buffer: motion vectors.
+    pub motion: Target,
+    /// Depth.
+    pub depth: Target,
+    /// This frame's direct light (linear radiance).
+    pub direct: Target,
+    /// The accumulated linear HDR image.
+    pub hdr: Target,
+    /// The tonemapped sRGB image.
+    pub ldr: Target,
+    /// Running sum of the frames' radiance (one `vec4<f32>` per pixel).
+    pub accumulation: wgpu::Buffer,
+}
+
+impl FrameTargets {
+    /// Targets of `width` x `height` pixels.
+    pub fn new(device: &wgpu::Device, width: u32, height: u32) -> Self {
+        use wgpu::TextureUsages as U;
+        let size = (width, height);
+        let gbuffer = U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC;
+        let storage = U::STORAGE_BINDING | U::TEXTURE_BINDING | U::COPY_SRC;
+        Self {
+            width,
+            height,
+            position: Target::new(device, "gbuffer position", POSITION_FORMAT, size, gbuffer),
+            surface: Target::new(device, "gbuffer surface", SURFACE_FORMAT, size, gbuffer),
+            emission: Target::new(device, "gbuffer emission", EMISSION_FORMAT, size, gbuffer),
+            motion: Target::new(device, "gbuffer motion", MOTION_FORMAT, size, gbuffer),
+            depth: Target::new(device, "gbuffer depth", DEPTH_FORMAT, size, gbuffer),
+            direct: Target::new(device, "direct light", HDR_FORMAT, size, storage),
+            hdr: Target::new(device, "hdr image", HDR_FORMAT, size, storage),
+            ldr: Target::new(device, "ldr image", LDR_FORMAT, size, storage),
+            accumulation: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("accumulation"),
+                size: u64::from(width) * u64::from(height) * 16,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+        }
+    }
+}

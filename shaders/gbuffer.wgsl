@@ -1,0 +1,145 @@
+// The G-buffer: the scene rasterized with vertices pulled from the scene buffers, one draw
+// per instance. Per pixel: world position, geometric and shading normals
+// (octahedral, Cigolle et al., "A Survey of Efficient Representations for Independent Unit
+// Vectors", JCGT 3(2), 2014), base colour, metallic, roughness, emission, instance id and the
+// motion vector; depth in the depth attachment. Alpha-masked texels are discarded. Surfaces
+// are shaded as chiaro_reference's surface_at: the front face is counter-clockwise (clockwise
+// under a mirroring transform), a back face of a single-sided material does not shade, normal
+// maps use the interpolated tangent frame.
+
+#import lib/generated.wgsl
+#import lib/bvh_bindings.wgsl
+#import lib/scene_bindings.wgsl
+#import lib/textures.wgsl
+#import lib/camera.wgsl
+#import lib/gbuffer_packing.wgsl
+
+@group(1) @binding(0) var<uniform> camera: GpuCamera;
+
+struct VertexOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) tangent: vec4<f32>,
+    @location(3) uvs: vec4<f32>,
+    @location(4) @interpolate(flat) geometric: vec3<f32>,
+    @location(5) @interpolate(flat) instance: u32,
+    @location(6) previous_clip: vec4<f32>,
+}
+
+fn transform_point(m: array<vec4<f32>, 3>, p: vec3<f32>) -> vec3<f32> {
+    let q = vec4<f32>(p, 1.0);
+    return vec3<f32>(dot(m[0], q), dot(m[1], q), dot(m[2], q));
+}
+
+fn transform_vector(m: array<vec4<f32>, 3>, v: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(dot(m[0].xyz, v), dot(m[1].xyz, v), dot(m[2].xyz, v));
+}
+
+// The inverse transpose of the object-to-world matrix applied to a normal: the rows of
+// world-to-object as columns.
+fn transform_normal(world_to_object: array<vec4<f32>, 3>, n: vec3<f32>) -> vec3<f32> {
+    return world_to_object[0].xyz * n.x + world_to_object[1].xyz * n.y + world_to_object[2].xyz * n.z;
+}
+
+@vertex
+fn vs_main(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32) -> VertexOut {
+    let record = bvh_instances[instance];
+    let mesh = scene_meshes[record.mesh];
+    let corner = vertex % 3u;
+    let triangle_first = mesh.index_base + vertex - corner;
+    let i = vec3<u32>(scene_indices[triangle_first], scene_indices[triangle_first + 1u],
+        scene_indices[triangle_first + 2u]);
+    let v = scene_vertices[scene_indices[mesh.index_base + vertex]];
+    let m = record.object_to_world;
+    let p0 = transform_point(m, scene_vertices[i.x].position);
+    let p1 = transform_point(m, scene_vertices[i.y].position);
+    let p2 = transform_point(m, scene_vertices[i.z].position);
+    var front = cross(p1 - p0, p2 - p0);
+    if scene_instance_extras[instance].mirrored != 0u {
+        front = -front;
+    }
+    let world = transform_point(m, v.position);
+    let previous = transform_point(scene_instance_extras[instance].previous_object_to_world, v.position);
+    var out: VertexOut;
+    out.clip = camera.view_proj * vec4<f32>(world, 1.0);
+    out.world = world;
+    out.normal = transform_normal(record.world_to_object, v.normal);
+    out.tangent = vec4<f32>(transform_vector(m, v.tangent.xyz), v.tangent.w);
+    out.uvs = vec4<f32>(v.u0, v.v0, v.uv1);
+    out.geometric = front;
+    out.instance = instance;
+    out.previous_clip = camera.previous_view_proj * vec4<f32>(previous, 1.0);
+    return out;
+}
+
+struct GbufferOut {
+    @location(0) position: vec4<f32>,
+    @location(1) surface: vec4<u32>,
+    @location(2) emission: vec4<u32>,
+    @location(3) motion: vec2<f32>,
+}
+
+fn safe_normalize(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
+    let l = length(v);
+    return select(fallback, v / l, l > 0.0 && l < 3.0e38);
+}
+
+@fragment
+fn fs_main(in: VertexOut) -> GbufferOut {
+    let record = bvh_instances[in.instance];
+    let material = scene_materials[record.material];
+    let mesh_flags = scene_meshes[record.mesh].flags;
+    let base = texture_sample_slot(material.base_color_texture, in.uvs, mesh_flags, vec4<f32>(1.0));
+    if (material.flags & MATERIAL_ALPHA_MASK) != 0u && !(material.base_color.w * base.w >= material.alpha_cutoff) {
+        discard;
+    }
+    let view = in.world - camera.origin;
+    let incoming = select(view, camera.forward, camera.orthographic != 0u);
+    let geometric_front = safe_normalize(in.geometric, vec3<f32>(0.0, 0.0, 1.0));
+    let front_facing = dot(incoming, geometric_front) < 0.0;
+    var shading_front = safe_normalize(in.normal, geometric_front);
+    if (material.normal_texture.texture != NO_INDEX) && (mesh_flags & MESH_HAS_TANGENTS) != 0u {
+        let texel = texture_sample_slot(material.normal_texture, in.uvs, mesh_flags, vec4<f32>(0.0));
+        let tangent = safe_normalize(in.tangent.xyz - shading_front * dot(shading_front, in.tangent.xyz), vec3<f32>(0.0));
+        if texel.w > 0.0 && any(tangent != vec3<f32>(0.0)) {
+            let mirror = select(1.0, -1.0, scene_instance_extras[in.instance].mirrored != 0u);
+            let bitangent = cross(shading_front, tangent) * sign(in.tangent.w) * mirror;
+            let m = (texel.xyz * 2.0 - 1.0) * vec3<f32>(material.normal_scale, material.normal_scale, 1.0);
+            shading_front = safe_normalize(tangent * m.x + bitangent * m.y + shading_front * m.z, shading_front);
+        }
+    }
+    let side = select(-1.0, 1.0, front_facing);
+    let geometric_normal = geometric_front * side;
+    var shading_normal = shading_front * side;
+    if dot(shading_normal, -incoming) <= 0.0 {
+        shading_normal = geometric_normal;
+    }
+    let shades = front_facing || (material.flags & MATERIAL_DOUBLE_SIDED) != 0u;
+    let metallic_roughness = texture_sample_slot(material.metallic_roughness_texture, in.uvs, mesh_flags, vec4<f32>(1.0));
+    var emission = vec3<f32>(0.0);
+    if shades {
+        emission = material.emission * texture_sample_slot(material.emissive_texture, in.uvs, mesh_flags, vec4<f32>(1.0)).xyz;
+    }
+    var surface: GbufferSurface;
+    surface.position = in.world;
+    surface.geometric_normal = geometric_normal;
+    surface.shading_normal = shading_normal;
+    surface.base_color = material.base_color.xyz * base.xyz;
+    surface.metallic = clamp(material.metallic * metallic_roughness.z, 0.0, 1.0);
+    surface.roughness = clamp(material.roughness * metallic_roughness.y, 0.0, 1.0);
+    surface.shades = shades;
+    surface.emission = emission;
+    surface.instance = in.instance;
+    let packed = gbuffer_pack(surface);
+    var out: GbufferOut;
+    out.position = packed.position;
+    out.surface = packed.surface;
+    out.emission = packed.emission;
+    // Where this point was in the previous frame, in pixels, minus where it is now.
+    let now = camera.unjittered_view_proj * vec4<f32>(in.world, 1.0);
+    let size = vec2<f32>(camera.width, camera.height);
+    let to_pixel = vec2<f32>(0.5, -0.5) * size;
+    out.motion = (in.previous_clip.xy / in.previous_clip.w - now.xy / now.w) * to_pixel;
+    return out;
+}

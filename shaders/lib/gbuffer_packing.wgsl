@@ -1,0 +1,81 @@
+// The G-buffer's texel formats: how a surface is packed into the position (rgba32float: world
+// position, roughness), surface (rgba32uint: normals, base colour, metallic) and emission
+// (rgba32uint: emission as f32 bits, instance + 1 with the shading flag in bit 31) targets
+// and read back. Base colour and metallic are 16-bit unorm; normals are octahedral in
+// 2 x 16-bit snorm (Cigolle et al., "A Survey of Efficient Representations for Independent
+// Unit Vectors", JCGT 3(2), 2014).
+
+struct GbufferSurface {
+    position: vec3<f32>,
+    geometric_normal: vec3<f32>,
+    shading_normal: vec3<f32>,
+    base_color: vec3<f32>,
+    metallic: f32,
+    roughness: f32,
+    shades: bool,
+    emission: vec3<f32>,
+    instance: u32,
+}
+
+struct GbufferTexels {
+    position: vec4<f32>,
+    surface: vec4<u32>,
+    emission: vec4<u32>,
+}
+
+fn octahedral_wrap(v: vec2<f32>) -> vec2<f32> {
+    return (1.0 - abs(v.yx)) * select(vec2<f32>(-1.0), vec2<f32>(1.0), v >= vec2<f32>(0.0));
+}
+
+fn octahedral_encode(n: vec3<f32>) -> u32 {
+    let p = n.xy / (abs(n.x) + abs(n.y) + abs(n.z));
+    let q = select(octahedral_wrap(p), p, n.z >= 0.0);
+    return pack2x16snorm(q);
+}
+
+fn octahedral_decode(packed: u32) -> vec3<f32> {
+    let f = unpack2x16snorm(packed);
+    var n = vec3<f32>(f, 1.0 - abs(f.x) - abs(f.y));
+    let t = clamp(-n.z, 0.0, 1.0);
+    n.x += select(t, -t, n.x >= 0.0);
+    n.y += select(t, -t, n.y >= 0.0);
+    return normalize(n);
+}
+
+fn gbuffer_pack(s: GbufferSurface) -> GbufferTexels {
+    var t: GbufferTexels;
+    t.position = vec4<f32>(s.position, s.roughness);
+    t.surface = vec4<u32>(
+        octahedral_encode(s.geometric_normal),
+        octahedral_encode(s.shading_normal),
+        pack2x16unorm(s.base_color.xy),
+        pack2x16unorm(vec2<f32>(s.base_color.z, s.metallic)),
+    );
+    t.emission = vec4<u32>(bitcast<vec3<u32>>(s.emission),
+        (s.instance + 1u) | select(0u, GBUFFER_SHADES, s.shades));
+    return t;
+}
+
+// Bit of the emission target's w set when the surface shades (not a single-sided back face).
+const GBUFFER_SHADES: u32 = 0x80000000u;
+
+// Whether anything was drawn at a texel.
+fn gbuffer_covered(t: GbufferTexels) -> bool {
+    return t.emission.w != 0u;
+}
+
+// The surface of a G-buffer texel (meaningless where gbuffer_covered is false).
+fn gbuffer_unpack(t: GbufferTexels) -> GbufferSurface {
+    var s: GbufferSurface;
+    s.position = t.position.xyz;
+    s.roughness = t.position.w;
+    s.geometric_normal = octahedral_decode(t.surface.x);
+    s.shading_normal = octahedral_decode(t.surface.y);
+    let bz = unpack2x16unorm(t.surface.w);
+    s.base_color = vec3<f32>(unpack2x16unorm(t.surface.z), bz.x);
+    s.metallic = bz.y;
+    s.emission = bitcast<vec3<f32>>(t.emission.xyz);
+    s.shades = (t.emission.w & GBUFFER_SHADES) != 0u;
+    s.instance = (t.emission.w & ~GBUFFER_SHADES) - 1u;
+    return s;
+}
