@@ -46,12 +46,14 @@ pub enum ContextError {
 }
 
 /// The limits chiaro asks for: WebGPU's downlevel defaults with more storage buffers per
-/// stage, and the adapter's own buffer sizes (large scenes need large storage buffers).
+/// stage, 64 bytes of colour attachments per sample (the G-buffer's four targets), and the
+/// adapter's own buffer and texture sizes (large scenes need large storage buffers).
 pub fn required_limits(adapter: &wgpu::Limits) -> wgpu::Limits {
     wgpu::Limits {
         max_storage_buffers_per_shader_stage: STORAGE_BUFFERS_PER_STAGE,
         max_storage_textures_per_shader_stage: 4,
-        max_texture_dimension_2d: 4096,
+        max_texture_dimension_2d: adapter.max_texture_dimension_2d.max(2048),
+        max_color_attachment_bytes_per_sample: 64,
         max_storage_buffer_binding_size: adapter
             .max_storage_buffer_binding_size
             .max(wgpu::Limits::downlevel_defaults().max_storage_buffer_binding_size),
@@ -238,9 +240,16 @@ mod tests {
             limits.max_storage_buffers_per_shader_stage,
             STORAGE_BUFFERS_PER_STAGE
         );
-        // An adapter with WebGPU's default limits falls short only of the storage-buffer count.
+        // An adapter with WebGPU's default limits falls short of the storage-buffer count and
+        // the G-buffer's bytes per sample only.
         let mut failures = Vec::new();
         limits.check_limits_with_fail_fn(&adapter, false, |name, _, _| failures.push(name));
-        assert_eq!(failures, ["max_storage_buffers_per_shader_stage"]);
+        assert_eq!(
+            failures,
+            [
+                "max_storage_buffers_per_shader_stage",
+                "max_color_attachment_bytes_per_sample"
+            ]
+        );
     }
 }

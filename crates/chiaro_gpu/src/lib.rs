@@ -9,11 +9,16 @@
 
 pub mod camera;
 pub mod context;
+pub mod frame;
 pub mod gpu_scene;
 pub mod passes;
+pub mod readback;
+pub mod renderer;
 pub mod shaders;
 pub mod targets;
+pub mod timing;
 
 pub use context::{ContextError, GpuContext};
 pub use gpu_scene::{GpuScene, UploadStats, add_gpu_scene_systems, upload_gpu_scene};
+pub use renderer::{RenderError, RenderOutput, RenderSettings, Renderer};
 pub use shaders::{ShaderError, compose};

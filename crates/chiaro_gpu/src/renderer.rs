@@ -1,0 +1,203 @@
+//! The headless renderer: renders a `bevy_ecs` World to a linear HDR image and a tonemapped
+//! 8-bit image, accumulating frames with fresh random numbers (and a fresh sub-pixel point
+//! per frame), so the image converges to the direct-light estimate of the CPU reference.
+
+use bevy_ecs::prelude::*;
+use chiaro_shading::rng::Pcg32;
+use chiaro_shading::tonemap::Tonemapper;
+use glam::{Mat4, Vec2, Vec3};
+use thiserror::Error;
+
+use crate::camera::{GpuCamera, NoCamera, active_camera};
+use crate::context::GpuContext;
+use crate::frame::{Frame, FrameInput};
+use crate::gpu_scene::{GpuScene, add_gpu_scene_systems};
+use crate::readback::{ReadbackError, read_hdr, read_texture};
+use crate::shaders::ShaderError;
+use crate::timing::PassTimes;
+
+/// Why a render failed.
+#[derive(Debug, Error)]
+pub enum RenderError {
+    /// No camera to render from.
+    #[error(transparent)]
+    NoCamera(#[from] NoCamera),
+    /// A shader did not compose.
+    #[error(transparent)]
+    Shader(#[from] ShaderError),
+    /// Reading the image back failed.
+    #[error(transparent)]
+    Readback(#[from] ReadbackError),
+    /// The image size is zero or beyond the device's limit.
+    #[error("image size {width}x{height} is not within 1..={max} per side on this device")]
+    Size {
+        /// Requested width.
+        width: u32,
+        /// Requested height.
+        height: u32,
+        /// The device's largest texture side.
+        max: u32,
+    },
+}
+
+/// How to render.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderSettings {
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Frames to accumulate (at least 1).
+    pub frames: u32,
+    /// Seed of the random numbers.
+    pub seed: u64,
+    /// Tonemapping operator of the LDR image.
+    pub tonemapper: Tonemapper,
+    /// Exposure multiplier before tonemapping.
+    pub exposure: f32,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        Self {
+            width: 512,
+            height: 512,
+            frames: 64,
+            seed: 0,
+            tonemapper: Tonemapper::PbrNeutral,
+            exposure: 1.0,
+        }
+    }
+}
+
+/// A rendered image.
+#[derive(Clone, Debug)]
+pub struct RenderOutput {
+    /// Width.
+    pub width: u32,
+    /// Height.
+    pub height: u32,
+    /// Linear HDR radiance per pixel, row-major, top row first.
+    pub hdr: Vec<Vec3>,
+    /// Tonemapped sRGB, RGBA8 per pixel.
+    pub ldr: Vec<u8>,
+    /// Frames accumulated.
+    pub frames: u32,
+    /// Pass times of each frame.
+    pub times: Vec<PassTimes>,
+}
+
+/// Renders worlds on one GPU context.
+pub struct Renderer {
+    /// The device.
+    pub context: GpuContext,
+    schedule: Schedule,
+    frame: Option<Frame>,
+    accumulated: u32,
+    frame_index: u32,
+    previous: Option<Mat4>,
+}
+
+impl Renderer {
+    /// A renderer on `context`.
+    pub fn new(context: GpuContext) -> Self {
+        let mut schedule = Schedule::default();
+        add_gpu_scene_systems(&mut schedule);
+        Self {
+            context,
+            schedule,
+            frame: None,
+            accumulated: 0,
+            frame_index: 0,
+            previous: None,
+        }
+    }
+
+    /// Renders `settings.frames` frames of `world` from a fresh accumulation and reads the
+    /// images back.
+    pub fn render(
+        &mut self,
+        world: &mut World,
+        settings: &RenderSettings,
+    ) -> Result<RenderOutput, RenderError> {
+        self.accumulated = 0;
+        self.frame_index = 0;
+        let times = self.accumulate(world, settings, settings.frames.max(1))?;
+        let mut output = self.read(settings)?;
+        output.times = times;
+        Ok(output)
+    }
+
+    /// Adds `frames` frames of `world` to the accumulated image (after the scene systems ran
+    /// on each: edits show up, though accumulation then mixes old and new).
+    pub fn accumulate(
+        &mut self,
+        world: &mut World,
+        settings: &RenderSettings,
+        frames: u32,
+    ) -> Result<Vec<PassTimes>, RenderError> {
+        let max = self.context.device.limits().max_texture_dimension_2d;
+        let (width, height) = (settings.width, settings.height);
+        if width == 0 || height == 0 || width > max || height > max {
+            return Err(RenderError::Size { width, height, max });
+        }
+        if !world.contains_resource::<GpuScene>() {
+            let scene = GpuScene::new(&self.context.device, &self.context.queue);
+            world.insert_resource(scene);
+        }
+        let resized = self
+            .frame
+            .as_ref()
+            .is_none_or(|f| (f.targets.width, f.targets.height) != (width, height));
+        if resized {
+            self.schedule.run(world);
+            let scene = world.resource::<GpuScene>();
+            self.frame = Some(Frame::new(&self.context, scene, width, height)?);
+            self.accumulated = 0;
+        }
+        let mut times = Vec::with_capacity(frames as usize);
+        for _ in 0..frames {
+            self.schedule.run(world);
+            let (camera, global) = active_camera(world)?;
+            let mut rng = Pcg32::new(settings.seed, u64::from(self.frame_index));
+            let jitter = Vec2::new(rng.next_f32(), rng.next_f32());
+            let gpu_camera = GpuCamera::new(&camera, &global, width, height, jitter, self.previous);
+            self.previous = Some(gpu_camera.unjittered());
+            self.accumulated += 1;
+            let input = FrameInput {
+                frame: self.frame_index,
+                seed: settings.seed,
+                accumulated: self.accumulated,
+                tonemapper: settings.tonemapper,
+                exposure: settings.exposure,
+            };
+            let scene = world.resource::<GpuScene>();
+            let frame = self.frame.as_mut().expect("made above");
+            times.push(frame.render(&self.context, scene, &gpu_camera, &input));
+            self.frame_index += 1;
+        }
+        Ok(times)
+    }
+
+    /// The accumulated images.
+    pub fn read(&self, settings: &RenderSettings) -> Result<RenderOutput, RenderError> {
+        let Some(frame) = &self.frame else {
+            return Err(RenderError::Size {
+                width: 0,
+                height: 0,
+                max: 0,
+            });
+        };
+        let (device, queue) = (&self.context.device, &self.context.queue);
+        let hdr = read_hdr(device, queue, &frame.targets.hdr.texture)?;
+        let ldr = read_texture(device, queue, &frame.targets.ldr.texture, 4)?;
+        Ok(RenderOutput {
+            width: settings.width,
+            height: settings.height,
+            hdr,
+            ldr,
+            frames: self.accumulated,
+            times: Vec::new(),
+        })
+    }
+}
