@@ -196,6 +196,7 @@ fn bvh_trace_instance(
     t_max: ptr<function, f32>,
     best: ptr<function, Hit>,
     any_hit: bool,
+    stack: ptr<function, array<vec2<u32>, BVH_STACK_SIZE>>,
 ) -> bool {
     let record = bvh_instances[instance];
     let o = bvh_transform_point(record.world_to_object, ray.origin);
@@ -214,7 +215,6 @@ fn bvh_trace_instance(
         | select(0x01010101u, 0u, d.z < 0.0);
     let t_min = ray.t_min;
 
-    var stack: array<vec2<u32>, BVH_STACK_SIZE>;
     var top = 0u;
     // The root, as the only inner child of a virtual parent.
     var group = vec2<u32>(record.blas_root, 0x80000000u);
@@ -241,7 +241,7 @@ fn bvh_trace_instance(
             let slot_bit = firstLeadingBit(hits);
             group.y &= ~(1u << slot_bit);
             if (group.y & 0xff000000u) != 0u {
-                stack[top] = group;
+                (*stack)[top] = group;
                 top += 1u;
             }
             // The child slot from its priority bit, then its rank among the inner children.
@@ -259,7 +259,7 @@ fn bvh_trace_instance(
                 return false;
             }
             top -= 1u;
-            group = stack[top];
+            group = (*stack)[top];
         }
     }
     return false;
@@ -287,13 +287,15 @@ fn bvh_trace(ray: Ray, t_max_in: f32, any_hit: bool) -> Hit {
         return best;
     }
     var stack: array<vec2<u32>, BVH_STACK_SIZE>;
+    // The BLAS traversals' stack, declared once per ray (WGSL zero-fills every declaration).
+    var blas_stack: array<vec2<u32>, BVH_STACK_SIZE>;
     var top = 0u;
     var index = 0u;
     loop {
         let node = bvh_tlas_nodes[index];
         if (node.child & TLAS_LEAF_BIT) != 0u {
             let instance = node.child & ~TLAS_LEAF_BIT;
-            if instance < arrayLength(&bvh_instances) && bvh_trace_instance(ray, instance, &t_max, &best, any_hit) {
+            if instance < arrayLength(&bvh_instances) && bvh_trace_instance(ray, instance, &t_max, &best, any_hit, &blas_stack) {
                 return best;
             }
         } else {
