@@ -219,12 +219,52 @@ macro_rules! ensure {
     };
 }
 
-fn compare(scene: &Scene, r: &TestRay, g: &TestHit, tally: &mut Tally) -> Result<(), String> {
-    let ray = Ray::new(Vec3::from_array(r.origin), Vec3::from_array(r.direction))
-        .with_interval(r.t_min, r.t_max);
+/// The ray as chiaro_bvh takes it.
+fn cpu_ray(r: &TestRay) -> Ray {
+    Ray::new(Vec3::from_array(r.origin), Vec3::from_array(r.direction))
+        .with_interval(r.t_min, r.t_max)
+}
+
+/// The CPU's closest hit and any-hit answer for `r`, with the test's mask.
+fn cpu_answers(scene: &Scene, r: &TestRay) -> (Option<Hit>, bool) {
+    let ray = cpu_ray(r);
     let accept = |h: &Hit| r.mask_odd == 0 || h.triangle.is_multiple_of(2);
-    let cpu = scene.bvh.closest_hit_with(&ray, &accept);
-    let cpu_any = scene.bvh.any_hit_with(&ray, &accept);
+    (
+        scene.bvh.closest_hit_with(&ray, &accept),
+        scene.bvh.any_hit_with(&ray, &accept),
+    )
+}
+
+/// The CPU answers for every ray, on every core (the test's own code is not optimised).
+fn cpu_answers_parallel(scene: &Scene, rays: &[TestRay]) -> Vec<(Option<Hit>, bool)> {
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let chunk = rays.len().div_ceil(threads).max(1);
+    std::thread::scope(|s| {
+        let workers: Vec<_> = rays
+            .chunks(chunk)
+            .map(|part| {
+                s.spawn(move || {
+                    part.iter()
+                        .map(|r| cpu_answers(scene, r))
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        workers
+            .into_iter()
+            .flat_map(|w| w.join().expect("a CPU tracing thread panicked"))
+            .collect()
+    })
+}
+
+fn compare(
+    scene: &Scene,
+    r: &TestRay,
+    g: &TestHit,
+    (cpu, cpu_any): (Option<Hit>, bool),
+    tally: &mut Tally,
+) -> Result<(), String> {
+    let ray = cpu_ray(r);
     let gpu = (g.instance != u32::MAX).then(|| Hit {
         t: g.t,
         instance: g.instance,
@@ -333,8 +373,9 @@ fn check_scene(gpu: &chiaro_gpu::GpuContext, kernel: &Kernel, name: &'static str
     let hits: &[TestHit] = bytemuck::cast_slice(&bytes);
     let mut tally = Tally::default();
     let mut failures = 0;
-    for (r, g) in rays.iter().zip(hits) {
-        if let Err(e) = compare(&scene, r, g, &mut tally) {
+    let answers = cpu_answers_parallel(&scene, &rays);
+    for ((r, g), answer) in rays.iter().zip(hits).zip(answers) {
+        if let Err(e) = compare(&scene, r, g, answer, &mut tally) {
             if failures < 10 {
                 eprintln!("{e}");
             }
