@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use bevy_ecs::world::World;
-use clap::{Args, Parser, Subcommand};
+use clap::{Args, Parser, Subcommand, ValueEnum};
 use glam::Vec3;
 
 use chiaro::reference::{PathSettings, RenderSettings, render_world, write_exr, write_png};
@@ -49,6 +49,34 @@ enum Command {
     },
     /// Render the converged ground truth with the CPU reference path tracer: an EXR (linear) and
     /// a PNG (tonemapped) beside it, plus the EXR of an independent half of the samples.
+    /// Render on the GPU (any adapter wgpu finds, lavapipe included), accumulating frames:
+    /// a PNG (tonemapped) or an EXR (linear HDR).
+    Render {
+        /// A .gltf or .glb file, or builtin:NAME.
+        #[arg(default_value = "builtin:cornell")]
+        scene: String,
+        /// Replaces the scene's environment: an .hdr or .exr image, or a colour R,G,B.
+        #[arg(long)]
+        env: Option<String>,
+        /// Multiplies the environment's radiance.
+        #[arg(long, default_value_t = 1.0)]
+        env_strength: f32,
+        /// Image size, WxH.
+        #[arg(long, default_value = "512x512", value_parser = parse_size)]
+        size: (u32, u32),
+        /// Frames to accumulate.
+        #[arg(long, default_value_t = 64)]
+        frames: u32,
+        /// Output file, .png or .exr.
+        #[arg(long, default_value = "chiaro.png")]
+        out: PathBuf,
+        /// What the frame computes.
+        #[arg(long, value_enum, default_value_t = Mode::Direct)]
+        mode: Mode,
+        /// Seed of the random numbers.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+    },
     Reference {
         #[command(flatten)]
         scene: SceneArgs,
@@ -76,6 +104,13 @@ enum Command {
     },
 }
 
+/// What `chiaro render` computes per frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum Mode {
+    /// Emission and direct light with shadow rays (MIS for area lights and the environment).
+    Direct,
+}
+
 fn parse_size(text: &str) -> Result<(u32, u32), String> {
     let (w, h) = text
         .split_once('x')
@@ -88,8 +123,29 @@ fn parse_size(text: &str) -> Result<(u32, u32), String> {
 
 fn main() -> Result<()> {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
-    match Cli::parse().command {
+    let cli = match std::env::args_os().len() {
+        1 => Cli::parse_from(["chiaro", "render"]),
+        _ => Cli::parse(),
+    };
+    match cli.command {
         Command::Info { scene } => info(&scene),
+        Command::Render {
+            scene,
+            env,
+            env_strength,
+            size,
+            frames,
+            out,
+            mode,
+            seed,
+        } => {
+            let scene = SceneArgs {
+                scene,
+                env,
+                env_strength,
+            };
+            render(&scene, size, frames, &out, mode, seed)
+        }
         Command::Reference {
             scene,
             spp,
@@ -166,6 +222,68 @@ fn info(args: &SceneArgs) -> Result<()> {
     println!("scene: {}", args.scene);
     print!("{info}");
     println!("load time: {:.1} ms", elapsed.as_secs_f64() * 1e3);
+    Ok(())
+}
+
+fn render(
+    args: &SceneArgs,
+    size: (u32, u32),
+    frames: u32,
+    out: &Path,
+    mode: Mode,
+    seed: u64,
+) -> Result<()> {
+    let exr = match out.extension().and_then(|e| e.to_str()) {
+        Some("exr") => true,
+        Some("png") => false,
+        _ => bail!("{}: the output must end in .png or .exr", out.display()),
+    };
+    let Mode::Direct = mode;
+    let mut world = load(args)?;
+    let context = chiaro::gpu::GpuContext::new_headless()?;
+    let adapter = context.describe();
+    let mut renderer = chiaro::gpu::Renderer::new(context);
+    let settings = chiaro::gpu::RenderSettings {
+        width: size.0,
+        height: size.1,
+        frames: frames.max(1),
+        seed,
+        tonemapper: Tonemapper::PbrNeutral,
+        exposure: 1.0,
+    };
+    let start = Instant::now();
+    let output = renderer
+        .render(&mut world, &settings)
+        .context("cannot render")?;
+    let seconds = start.elapsed().as_secs_f64();
+    if exr {
+        write_exr(out, output.width, output.height, &output.hdr)?;
+    } else {
+        image::RgbaImage::from_raw(output.width, output.height, output.ldr)
+            .context("image size")?
+            .save_with_format(out, image::ImageFormat::Png)
+            .with_context(|| format!("cannot write {}", out.display()))?;
+    }
+    println!("wrote {}", out.display());
+    println!(
+        "{}x{}, {} frames in {seconds:.2} s on {adapter}",
+        output.width, output.height, output.frames
+    );
+    let timed = &output.times[output.times.len() / 2..];
+    let clock = match timed.first() {
+        Some(t) if t.gpu_timestamps => "GPU timestamps",
+        _ => "wall clock",
+    };
+    for (index, (name, _)) in timed
+        .first()
+        .map_or(&[][..], |t| &t.passes)
+        .iter()
+        .enumerate()
+    {
+        let mut ms: Vec<f64> = timed.iter().map(|t| t.passes[index].1).collect();
+        ms.sort_by(f64::total_cmp);
+        println!("  {name:<10} {:8.3} ms (median, {clock})", ms[ms.len() / 2]);
+    }
     Ok(())
 }
 

@@ -124,15 +124,33 @@ pub struct GpuContext {
 
 impl GpuContext {
     /// A context on the best adapter of the backends wgpu's environment variables allow
-    /// (`WGPU_BACKEND`; Vulkan and GL by default), without a surface.
+    /// (`WGPU_BACKEND`; Vulkan, then GL when Vulkan offers no usable adapter), without a
+    /// surface.
     pub fn new_headless() -> Result<Self, ContextError> {
-        let backends = wgpu::Backends::VULKAN | wgpu::Backends::GL;
+        let allowed =
+            wgpu::Backends::from_env().unwrap_or(wgpu::Backends::VULKAN | wgpu::Backends::GL);
+        let mut refusal = None;
+        for backends in [wgpu::Backends::VULKAN, wgpu::Backends::GL] {
+            let backends = backends & allowed;
+            if backends.is_empty() {
+                continue;
+            }
+            match Self::on_backends(backends) {
+                Ok(context) => return Ok(context),
+                Err(e @ ContextError::NoAdapter { .. }) => refusal = refusal.or(Some(e)),
+                Err(e) => refusal = Some(e),
+            }
+        }
+        Err(refusal.unwrap_or(ContextError::NoAdapter { backends: allowed }))
+    }
+
+    /// A context on the best usable adapter of `backends`.
+    fn on_backends(backends: wgpu::Backends) -> Result<Self, ContextError> {
         let descriptor = wgpu::InstanceDescriptor {
             backends,
             ..wgpu::InstanceDescriptor::new_without_display_handle()
         }
         .with_env();
-        let backends = descriptor.backends;
         let instance = wgpu::Instance::new(descriptor);
         let mut adapters = pollster::block_on(instance.enumerate_adapters(backends));
         adapters.sort_by_key(|a| rank(&a.get_info()));
