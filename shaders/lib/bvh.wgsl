@@ -26,6 +26,13 @@
 // Hit::instance of a miss.
 const BVH_NO_HIT: u32 = 0xffffffffu;
 
+// The traversal stacks: TLAS entries (node, entry distance bits) and BLAS entries (node or
+// triangle base, hit mask), BVH_STACK_SIZE each (chiaro_bvh's bound). WGSL zero-fills every
+// variable where it is declared; at module scope that happens once per invocation, however
+// many rays the invocation traces (declared per BLAS visit, it cost 3x on lavapipe).
+var<private> bvh_tlas_stack: array<vec2<u32>, BVH_STACK_SIZE>;
+var<private> bvh_blas_stack: array<vec2<u32>, BVH_STACK_SIZE>;
+
 // The points origin + t direction for t in (t_min, t_max); the direction need not be unit.
 struct Ray {
     origin: vec3<f32>,
@@ -196,7 +203,6 @@ fn bvh_trace_instance(
     t_max: ptr<function, f32>,
     best: ptr<function, Hit>,
     any_hit: bool,
-    stack: ptr<function, array<vec2<u32>, BVH_STACK_SIZE>>,
 ) -> bool {
     let record = bvh_instances[instance];
     let o = bvh_transform_point(record.world_to_object, ray.origin);
@@ -241,7 +247,7 @@ fn bvh_trace_instance(
             let slot_bit = firstLeadingBit(hits);
             group.y &= ~(1u << slot_bit);
             if (group.y & 0xff000000u) != 0u {
-                (*stack)[top] = group;
+                bvh_blas_stack[top] = group;
                 top += 1u;
             }
             // The child slot from its priority bit, then its rank among the inner children.
@@ -259,7 +265,7 @@ fn bvh_trace_instance(
                 return false;
             }
             top -= 1u;
-            group = (*stack)[top];
+            group = bvh_blas_stack[top];
         }
     }
     return false;
@@ -286,16 +292,13 @@ fn bvh_trace(ray: Ray, t_max_in: f32, any_hit: bool) -> Hit {
     if !f32_is_finite(bvh_box_entry(box_ray, root.min, root.max, root.kappa * unit_pad, t_min, t_max)) {
         return best;
     }
-    var stack: array<vec2<u32>, BVH_STACK_SIZE>;
-    // The BLAS traversals' stack, declared once per ray (WGSL zero-fills every declaration).
-    var blas_stack: array<vec2<u32>, BVH_STACK_SIZE>;
     var top = 0u;
     var index = 0u;
     loop {
         let node = bvh_tlas_nodes[index];
         if (node.child & TLAS_LEAF_BIT) != 0u {
             let instance = node.child & ~TLAS_LEAF_BIT;
-            if instance < arrayLength(&bvh_instances) && bvh_trace_instance(ray, instance, &t_max, &best, any_hit, &blas_stack) {
+            if instance < arrayLength(&bvh_instances) && bvh_trace_instance(ray, instance, &t_max, &best, any_hit) {
                 return best;
             }
         } else {
@@ -308,10 +311,10 @@ fn bvh_trace(ray: Ray, t_max_in: f32, any_hit: bool) -> Hit {
             let hit_right = f32_is_finite(t_right);
             if hit_left && hit_right {
                 if t_left <= t_right {
-                    stack[top] = vec2<u32>(first + 1u, bitcast<u32>(t_right));
+                    bvh_tlas_stack[top] = vec2<u32>(first + 1u, bitcast<u32>(t_right));
                     index = first;
                 } else {
-                    stack[top] = vec2<u32>(first, bitcast<u32>(t_left));
+                    bvh_tlas_stack[top] = vec2<u32>(first, bitcast<u32>(t_left));
                     index = first + 1u;
                 }
                 top += 1u;
@@ -332,8 +335,8 @@ fn bvh_trace(ray: Ray, t_max_in: f32, any_hit: bool) -> Hit {
                 return best;
             }
             top -= 1u;
-            if bitcast<f32>(stack[top].y) < t_max {
-                index = stack[top].x;
+            if bitcast<f32>(bvh_tlas_stack[top].y) < t_max {
+                index = bvh_tlas_stack[top].x;
                 break;
             }
         }
