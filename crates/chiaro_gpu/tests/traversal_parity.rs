@@ -3,6 +3,10 @@
 //! SceneBvh::closest_hit / any_hit, with and without an alpha-mask hook that rejects every odd
 //! triangle on both sides.
 //!
+//! Scenes: builtin:cornell, builtin:instances?n=64, builtin:hard-cases (far copies, a tiny
+//! cube on a huge box, coplanar quads, grazing planes) and the shared MetalRoughSpheresNoTextures
+//! model.
+//!
 //! Rays: half are aimed at random points of random triangles (a tenth of those at points of
 //! their edges and vertices), from random origins around the scene and near the target; a
 //! quarter are random rays through the scene's bounds; a quarter are shadow segments between
@@ -115,14 +119,14 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 
 /// A scene's BVH with a way to pick random surface points.
 struct Scene {
-    name: &'static str,
+    name: String,
     bvh: SceneBvh,
     /// (instance, triangle) of every triangle of every instance.
     triangles: Vec<(u32, u32)>,
 }
 
 impl Scene {
-    fn load(name: &'static str) -> Self {
+    fn load(name: &str) -> Self {
         let mut world = World::new();
         chiaro_scene::load_scene(&mut world, name).unwrap_or_else(|e| panic!("{name}: {e}"));
         let bvh = SceneBvh::build(&mut world);
@@ -132,7 +136,7 @@ impl Scene {
             triangles.extend((0..count as u32).map(|t| (i as u32, t)));
         }
         Self {
-            name,
+            name: name.to_owned(),
             bvh,
             triangles,
         }
@@ -326,7 +330,7 @@ fn compare(
     Ok(())
 }
 
-fn check_scene(gpu: &chiaro_gpu::GpuContext, kernel: &Kernel, name: &'static str) {
+fn check_scene(gpu: &chiaro_gpu::GpuContext, kernel: &Kernel, name: &str) {
     let start = Instant::now();
     let scene = Scene::load(name);
     let buffers = GpuBvhBuffers::from_scene(&scene.bvh);
@@ -407,10 +411,19 @@ fn wgsl_traversal_matches_the_cpu_on_random_rays() {
         return;
     };
     let kernel = Kernel::new(&gpu, "traversal parity", KERNEL);
+    // A real model too: spheres of shared edges, from the test data beside the checkout.
+    let shared = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../../shared/scenes/MetalRoughSpheresNoTextures.glb");
+    assert!(
+        shared.is_file(),
+        "{} is missing: this test needs the shared test data folder (../shared/scenes) beside the checkout",
+        shared.display()
+    );
     for name in [
         "builtin:cornell",
         "builtin:instances?n=64",
         "builtin:hard-cases",
+        shared.to_str().expect("a UTF-8 path"),
     ] {
         check_scene(&gpu, &kernel, name);
     }
