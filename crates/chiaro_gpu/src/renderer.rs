@@ -28,6 +28,9 @@ pub enum RenderError {
     /// Reading the image back failed.
     #[error(transparent)]
     Readback(#[from] ReadbackError),
+    /// Nothing was rendered yet.
+    #[error("nothing was rendered yet")]
+    NotRendered,
     /// The image size is zero or beyond the device's limit.
     #[error("image size {width}x{height} is not within 1..={max} per side on this device")]
     Size {
@@ -87,11 +90,27 @@ pub struct RenderOutput {
     pub times: Vec<PassTimes>,
 }
 
+/// The sub-pixel point of frame `frame`: Roberts's R2 low-discrepancy sequence ("The
+/// Unreasonable Effectiveness of Quasirandom Sequences", 2018) rotated by a random offset drawn
+/// from `seed` (Cranley and Patterson, 1976), so every frame's point is uniform over the pixel
+/// and the points of consecutive frames cover it evenly.
+pub fn jitter(seed: u64, frame: u32) -> Vec2 {
+    const R2: Vec2 = Vec2::new(0.754_877_7, 0.569_840_3);
+    let mut rng = Pcg32::new(seed, 0x6a69_7474_6572);
+    let offset = Vec2::new(rng.next_f32(), rng.next_f32());
+    // In f64: frame x alpha must keep its fraction for large frame numbers.
+    let f = f64::from(frame);
+    let x = (f64::from(offset.x) + f * f64::from(R2.x)).fract();
+    let y = (f64::from(offset.y) + f * f64::from(R2.y)).fract();
+    Vec2::new(x as f32, y as f32).min(Vec2::splat(1.0 - f32::EPSILON))
+}
+
 /// Renders worlds on one GPU context.
 pub struct Renderer {
     /// The device.
     pub context: GpuContext,
     schedule: Schedule,
+    world: Option<bevy_ecs::world::WorldId>,
     frame: Option<Frame>,
     accumulated: u32,
     frame_index: u32,
@@ -101,16 +120,21 @@ pub struct Renderer {
 impl Renderer {
     /// A renderer on `context`.
     pub fn new(context: GpuContext) -> Self {
-        let mut schedule = Schedule::default();
-        add_gpu_scene_systems(&mut schedule);
         Self {
             context,
-            schedule,
+            schedule: Self::schedule(),
+            world: None,
             frame: None,
             accumulated: 0,
             frame_index: 0,
             previous: None,
         }
+    }
+
+    fn schedule() -> Schedule {
+        let mut schedule = Schedule::default();
+        add_gpu_scene_systems(&mut schedule);
+        schedule
     }
 
     /// Renders `settings.frames` frames of `world` from a fresh accumulation and reads the
@@ -129,7 +153,8 @@ impl Renderer {
     }
 
     /// Adds `frames` frames of `world` to the accumulated image (after the scene systems ran
-    /// on each: edits show up, though accumulation then mixes old and new).
+    /// on each: edits show up, though accumulation then mixes old and new). Another world
+    /// than the last one restarts the accumulation.
     pub fn accumulate(
         &mut self,
         world: &mut World,
@@ -145,6 +170,13 @@ impl Renderer {
             let scene = GpuScene::new(&self.context.device, &self.context.queue);
             world.insert_resource(scene);
         }
+        if self.world != Some(world.id()) {
+            // A schedule's systems belong to one world: a new world gets new ones.
+            self.schedule = Self::schedule();
+            self.world = Some(world.id());
+            self.frame = None;
+            self.previous = None;
+        }
         let resized = self
             .frame
             .as_ref()
@@ -159,8 +191,7 @@ impl Renderer {
         for _ in 0..frames {
             self.schedule.run(world);
             let (camera, global) = active_camera(world)?;
-            let mut rng = Pcg32::new(settings.seed, u64::from(self.frame_index));
-            let jitter = Vec2::new(rng.next_f32(), rng.next_f32());
+            let jitter = jitter(settings.seed, self.frame_index);
             let gpu_camera = GpuCamera::new(&camera, &global, width, height, jitter, self.previous);
             self.previous = Some(gpu_camera.unjittered());
             self.accumulated += 1;
@@ -179,15 +210,16 @@ impl Renderer {
         Ok(times)
     }
 
+    /// The last frame's own radiance (before accumulation).
+    pub fn frame_radiance(&self) -> Result<Vec<Vec3>, RenderError> {
+        let frame = self.frame.as_ref().ok_or(RenderError::NotRendered)?;
+        let (device, queue) = (&self.context.device, &self.context.queue);
+        Ok(read_hdr(device, queue, &frame.targets.direct.texture)?)
+    }
+
     /// The accumulated images.
     pub fn read(&self, settings: &RenderSettings) -> Result<RenderOutput, RenderError> {
-        let Some(frame) = &self.frame else {
-            return Err(RenderError::Size {
-                width: 0,
-                height: 0,
-                max: 0,
-            });
-        };
+        let frame = self.frame.as_ref().ok_or(RenderError::NotRendered)?;
         let (device, queue) = (&self.context.device, &self.context.queue);
         let hdr = read_hdr(device, queue, &frame.targets.hdr.texture)?;
         let ldr = read_texture(device, queue, &frame.targets.ldr.texture, 4)?;
@@ -199,5 +231,24 @@ impl Renderer {
             frames: self.accumulated,
             times: Vec::new(),
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn jitter_covers_the_pixel_evenly() {
+        // Every cell of a 4 x 4 grid over the pixel gets one of the first 16 points or two.
+        let mut cells = [0u32; 16];
+        for frame in 0..16 {
+            let j = jitter(3, frame);
+            assert!(j.cmpge(Vec2::ZERO).all() && j.cmplt(Vec2::ONE).all());
+            cells[(j.y * 4.0) as usize * 4 + (j.x * 4.0) as usize] += 1;
+        }
+        assert!(cells.iter().all(|&c| c <= 2), "{cells:?}");
+        assert!(cells.iter().filter(|&&c| c == 0).count() <= 3, "{cells:?}");
+        assert_ne!(jitter(3, 0), jitter(4, 0));
     }
 }
