@@ -57,30 +57,28 @@ pub fn active_camera(world: &World) -> Result<(Camera, GlobalTransform), NoCamer
     }
 }
 
-/// A right-handed perspective projection looking down -Z onto depth 0..1 (near..far, or
-/// infinity), `half` = tan(yfov / 2).
-fn perspective(half: f32, aspect: f32, znear: f32, zfar: Option<f32>) -> Mat4 {
+/// A right-handed perspective projection looking down -Z with reversed depth: `znear` maps
+/// to 1 and infinity to 0 (`half` = tan(yfov / 2)). Reversed depth keeps float precision at
+/// any distance; the far plane is infinite because the CPU reference, whose image the frame
+/// must match, has none.
+fn perspective(half: f32, aspect: f32, znear: f32) -> Mat4 {
     let f = 1.0 / half;
-    let (c, d) = match zfar {
-        Some(far) if far > znear => (far / (znear - far), znear * far / (znear - far)),
-        _ => (-1.0, -znear),
-    };
     Mat4::from_cols(
         Vec4::new(f / aspect, 0.0, 0.0, 0.0),
         Vec4::new(0.0, f, 0.0, 0.0),
-        Vec4::new(0.0, 0.0, c, -1.0),
-        Vec4::new(0.0, 0.0, d, 0.0),
+        Vec4::new(0.0, 0.0, 0.0, -1.0),
+        Vec4::new(0.0, 0.0, znear, 0.0),
     )
 }
 
-/// A right-handed orthographic projection onto depth 0..1.
+/// A right-handed orthographic projection with reversed depth: `znear` maps to 1, `zfar` to 0.
 fn orthographic(xmag: f32, ymag: f32, znear: f32, zfar: f32) -> Mat4 {
     let zfar = zfar.max(znear + 1e-3);
     Mat4::from_cols(
         Vec4::new(1.0 / xmag, 0.0, 0.0, 0.0),
         Vec4::new(0.0, 1.0 / ymag, 0.0, 0.0),
-        Vec4::new(0.0, 0.0, 1.0 / (znear - zfar), 0.0),
-        Vec4::new(0.0, 0.0, znear / (znear - zfar), 1.0),
+        Vec4::new(0.0, 0.0, 1.0 / (zfar - znear), 0.0),
+        Vec4::new(0.0, 0.0, zfar / (zfar - znear), 1.0),
     )
 }
 
@@ -112,12 +110,10 @@ impl GpuCamera {
             Vec4::new(-right_axis.dot(eye), -up_axis.dot(eye), -back.dot(eye), 1.0),
         );
         let (projection, right, up, orthographic) = match camera.projection {
-            Projection::Perspective {
-                yfov, znear, zfar, ..
-            } => {
+            Projection::Perspective { yfov, znear, .. } => {
                 let half = (0.5 * yfov).tan();
                 let znear = znear.max(1e-6);
-                let p = perspective(half, aspect, znear, zfar);
+                let p = perspective(half, aspect, znear);
                 (p, right_axis * half * aspect, up_axis * half, 0)
             }
             Projection::Orthographic {
@@ -191,5 +187,12 @@ mod tests {
             (1.0 - clip.y / clip.w) * 0.5 * h as f32,
         );
         assert!((pixel - Vec2::new(10.5, 5.5)).length() < 1e-3, "{pixel}");
+        // Reversed depth: the near plane at 1, far points towards 0 but still positive.
+        let depth = |distance: f32| {
+            let p = Mat4::from_cols_array_2d(&c.view_proj) * Vec4::new(0.0, 0.0, -distance, 1.0);
+            p.z / p.w
+        };
+        assert!((depth(0.1) - 1.0).abs() < 1e-6);
+        assert!(depth(1.5e5) > 0.0 && depth(1.5e5) < depth(1.4e5));
     }
 }

@@ -20,5 +20,5 @@ pub mod timing;
 
 pub use context::{ContextError, GpuContext};
 pub use gpu_scene::{GpuScene, UploadStats, add_gpu_scene_systems, upload_gpu_scene};
-pub use renderer::{RenderError, RenderOutput, RenderSettings, Renderer};
+pub use renderer::{GbufferImage, RenderError, RenderOutput, RenderSettings, Renderer};
 pub use shaders::{ShaderError, compose};

@@ -105,6 +105,17 @@ pub fn jitter(seed: u64, frame: u32) -> Vec2 {
     Vec2::new(x as f32, y as f32).min(Vec2::splat(1.0 - f32::EPSILON))
 }
 
+/// Parts of a G-buffer read back (for tests and debug views), row-major, top row first.
+#[derive(Clone, Debug)]
+pub struct GbufferImage {
+    /// World position per pixel (meaningless where `instance` is `None`).
+    pub position: Vec<Vec3>,
+    /// The instance drawn per pixel, `None` where nothing was.
+    pub instance: Vec<Option<u32>>,
+    /// Pixels from the current to the previous frame's position of what the pixel shows.
+    pub motion: Vec<Vec2>,
+}
+
 /// Renders worlds on one GPU context.
 pub struct Renderer {
     /// The device.
@@ -208,6 +219,36 @@ impl Renderer {
             self.frame_index += 1;
         }
         Ok(times)
+    }
+
+    /// The last frame's G-buffer: world positions, instance ids and motion vectors.
+    pub fn read_gbuffer(&self) -> Result<GbufferImage, RenderError> {
+        let frame = self.frame.as_ref().ok_or(RenderError::NotRendered)?;
+        let (device, queue) = (&self.context.device, &self.context.queue);
+        let t = &frame.targets;
+        let floats = |texture, bytes| -> Result<Vec<f32>, RenderError> {
+            Ok(bytemuck::pod_collect_to_vec(&read_texture(
+                device, queue, texture, bytes,
+            )?))
+        };
+        let position = floats(&t.position.texture, 16)?;
+        let motion = floats(&t.motion.texture, 8)?;
+        let emission: Vec<u32> =
+            bytemuck::pod_collect_to_vec(&read_texture(device, queue, &t.emission.texture, 16)?);
+        Ok(GbufferImage {
+            position: position
+                .chunks_exact(4)
+                .map(|p| Vec3::new(p[0], p[1], p[2]))
+                .collect(),
+            instance: emission
+                .chunks_exact(4)
+                .map(|e| (e[3] & 0x7fff_ffff).checked_sub(1))
+                .collect(),
+            motion: motion
+                .chunks_exact(2)
+                .map(|m| Vec2::new(m[0], m[1]))
+                .collect(),
+        })
     }
 
     /// The last frame's own radiance (before accumulation).

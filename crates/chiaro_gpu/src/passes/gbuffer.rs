@@ -1,6 +1,7 @@
 //! `gbuffer`: rasterizes every instance (vertices pulled from the scene buffers, one draw per
-//! instance) into the G-buffer targets: position and view distance, normals, base colour,
-//! metallic, roughness, emission, instance id and motion vectors, plus depth. No face is
+//! instance) into the G-buffer targets: position, normals, base colour, metallic, roughness,
+//! emission, instance id and motion vectors, plus depth (reversed: the near plane at 1,
+//! infinitely far at 0; see [`crate::camera`]). No face is
 //! culled: a back face of a single-sided material is drawn and marked as not shading, as the
 //! CPU reference treats it.
 
@@ -55,7 +56,7 @@ impl GbufferPass {
             depth_stencil: Some(wgpu::DepthStencilState {
                 format: targets::DEPTH_FORMAT,
                 depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
+                depth_compare: Some(wgpu::CompareFunction::Greater),
                 stencil: Default::default(),
                 bias: Default::default(),
             }),
@@ -127,7 +128,7 @@ impl GbufferPass {
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &targets.depth.view,
                 depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
+                    load: wgpu::LoadOp::Clear(0.0),
                     store: wgpu::StoreOp::Store,
                 }),
                 stencil_ops: None,

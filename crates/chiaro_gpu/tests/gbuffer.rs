@@ -1,0 +1,118 @@
+//! The G-buffer's motion vectors: after one instance moves, the pixels showing it point back to
+//! where its surface was in the previous frame (projected on the CPU), and the pixels of the
+//! static rest point nowhere; after the camera moves, every pixel's vector is the camera's
+//! reprojection.
+
+mod common;
+
+use bevy_ecs::prelude::*;
+use chiaro_gpu::{RenderSettings, Renderer};
+use chiaro_scene::{ActiveCamera, Materials, MeshInstance, Transform, load_scene};
+use glam::{Mat4, Vec2, Vec3};
+
+/// Pixel coordinates of world point `p` under `view_proj` in a `size` image.
+fn pixel(view_proj: Mat4, p: Vec3, size: f32) -> Vec2 {
+    let c = view_proj * p.extend(1.0);
+    Vec2::new(
+        (c.x / c.w + 1.0) * 0.5 * size,
+        (1.0 - c.y / c.w) * 0.5 * size,
+    )
+}
+
+#[test]
+fn motion_vectors_follow_instances_and_the_camera() {
+    let Some(gpu) = common::gpu() else { return };
+    let size = 32;
+    let mut world = World::new();
+    load_scene(&mut world, "builtin:cornell").unwrap();
+    let mut renderer = Renderer::new(gpu);
+    let settings = RenderSettings {
+        width: size,
+        height: size,
+        frames: 2,
+        ..RenderSettings::default()
+    };
+    renderer.render(&mut world, &settings).unwrap();
+    let still = renderer.read_gbuffer().unwrap();
+    let covered = still.instance.iter().filter(|i| i.is_some()).count();
+    assert!(covered > 900, "{covered} pixels covered");
+    for (i, m) in still.motion.iter().enumerate() {
+        assert!(m.length() < 1e-3, "pixel {i} moves by {m} in a still scene");
+    }
+
+    // Move the first non-emissive instance's entity sideways.
+    let materials = world.resource::<Materials>();
+    let emissive: Vec<bool> = materials.iter().map(|(_, m)| m.is_emissive()).collect();
+    let mut query = world.query::<(Entity, &MeshInstance)>();
+    let (entity, _) = query
+        .iter(&world)
+        .find(|(_, mi)| !emissive[mi.material.0 as usize])
+        .unwrap();
+    let step = Vec3::new(0.05, 0.0, 0.0);
+    world.get_mut::<Transform>(entity).unwrap().translation += step;
+    renderer.accumulate(&mut world, &settings, 1).unwrap();
+    let moved = renderer.read_gbuffer().unwrap();
+    let bvh = world.resource::<chiaro_bvh::SceneBvh>();
+    let index = bvh.instance_of(entity).unwrap();
+    let camera_entity = world.resource::<ActiveCamera>().0;
+    let (camera, global) = (
+        *world.get::<chiaro_scene::Camera>(camera_entity).unwrap(),
+        *world
+            .get::<chiaro_scene::GlobalTransform>(camera_entity)
+            .unwrap(),
+    );
+    let view_proj =
+        chiaro_gpu::camera::GpuCamera::new(&camera, &global, size, size, Vec2::ZERO, None)
+            .unjittered();
+    let mut checked = 0;
+    for (i, instance) in moved.instance.iter().enumerate() {
+        let Some(instance) = instance else { continue };
+        let m = moved.motion[i];
+        if *instance == index {
+            let p = moved.position[i];
+            let expected =
+                pixel(view_proj, p - step, size as f32) - pixel(view_proj, p, size as f32);
+            assert!(
+                (m - expected).length() < 1e-2 && expected.length() > 0.1,
+                "pixel {i}: motion {m}, expected {expected}"
+            );
+            checked += 1;
+        } else {
+            assert!(m.length() < 1e-3, "static pixel {i} moves by {m}");
+        }
+    }
+    assert!(
+        checked > 10,
+        "only {checked} pixels show the moved instance"
+    );
+
+    // Turn the camera a little: every pixel moves by the camera's reprojection.
+    let mut transform = world.get_mut::<Transform>(camera_entity).unwrap();
+    transform.rotation = glam::Quat::from_rotation_y(0.02) * transform.rotation;
+    renderer.accumulate(&mut world, &settings, 1).unwrap();
+    let turned = renderer.read_gbuffer().unwrap();
+    let global = *world
+        .get::<chiaro_scene::GlobalTransform>(camera_entity)
+        .unwrap();
+    let now = chiaro_gpu::camera::GpuCamera::new(&camera, &global, size, size, Vec2::ZERO, None)
+        .unjittered();
+    let mut checked = 0;
+    for (i, instance) in turned.instance.iter().enumerate() {
+        if instance.is_none() {
+            continue;
+        }
+        let p = turned.position[i];
+        let expected = pixel(view_proj, p, size as f32) - pixel(now, p, size as f32);
+        assert!(
+            (turned.motion[i] - expected).length() < 1e-2,
+            "pixel {i}: motion {}, expected {expected}",
+            turned.motion[i]
+        );
+        checked += 1;
+    }
+    assert!(
+        checked > 800,
+        "only {checked} pixels covered after the turn"
+    );
+    eprintln!("{checked} pixels checked after the turn");
+}
