@@ -26,10 +26,11 @@ mod common;
 
 use std::path::Path;
 
+use bevy_ecs::prelude::{Entity, Name};
 use bevy_ecs::world::World;
 use chiaro_gpu::{RenderSettings, Renderer};
 use chiaro_reference::{PathSettings, render_world};
-use chiaro_scene::{Environment, load_scene};
+use chiaro_scene::{AlphaMode, Environment, Materials, MeshInstance, load_scene};
 use glam::Vec3;
 
 /// relMSE as DESIGN.md defines it: mean((x - y)^2 / (y^2 + 0.01)) over pixels and channels.
@@ -45,9 +46,33 @@ fn rel_mse(x: &[Vec3], y: &[Vec3]) -> f64 {
     sum / (3 * x.len()) as f64
 }
 
-fn world(scene: &str, env: Option<&Path>) -> World {
+/// Gives the Cornell box's tall block a copy of its material with alpha 0.25 under an alpha
+/// mask of cutoff 0.5: the block is a hole for the rasterizer, the shadow rays and the BRDF
+/// rays alike.
+fn mask_tall_block(world: &mut World) {
+    let mut query = world.query::<(Entity, &Name, &MeshInstance)>();
+    let (entity, instance) = query
+        .iter(world)
+        .find(|(_, name, _)| name.as_str() == "tall block")
+        .map(|(e, _, i)| (e, *i))
+        .expect("the Cornell box has a tall block");
+    let mut materials = world.resource_mut::<Materials>();
+    let mut masked = materials.get(instance.material).unwrap().clone();
+    masked.base_color.w = 0.25;
+    masked.alpha_mode = AlphaMode::Mask { cutoff: 0.5 };
+    let id = materials.add(masked);
+    world.get_mut::<MeshInstance>(entity).unwrap().material = id;
+}
+
+/// A scene edit applied after loading.
+type Edit = fn(&mut World);
+
+fn no_edit(_: &mut World) {}
+
+fn world(scene: &str, env: Option<&Path>, edit: Edit) -> World {
     let mut world = World::new();
     load_scene(&mut world, scene).unwrap();
+    edit(&mut world);
     if let Some(path) = env {
         let (environment, _) = Environment::from_file(path, 1.0).unwrap();
         world.insert_resource(environment);
@@ -74,12 +99,13 @@ struct Measured {
 fn compare(
     scene: &str,
     env: Option<&Path>,
+    edit: Edit,
     size: u32,
     spp: u32,
     checkpoints: &[u32],
 ) -> Option<Measured> {
     let gpu = common::gpu()?;
-    let mut cpu_world = world(scene, env);
+    let mut cpu_world = world(scene, env, edit);
     let reference = render_world(
         &mut cpu_world,
         &chiaro_reference::RenderSettings {
@@ -98,7 +124,7 @@ fn compare(
     .unwrap();
     let reference_noise = reference.halves_rel_mse() / 4.0;
 
-    let mut gpu_world = world(scene, env);
+    let mut gpu_world = world(scene, env, edit);
     let mut renderer = Renderer::new(gpu);
     let settings = RenderSettings {
         width: size,
@@ -122,7 +148,7 @@ fn compare(
         seed: 2,
         ..settings
     };
-    let mut other_world = world(scene, env);
+    let mut other_world = world(scene, env, edit);
     let second = renderer.render(&mut other_world, &other).unwrap();
     let gpu_noise = rel_mse(&out.hdr, &second.hdr) / 2.0;
     let clip = 1.0;
@@ -182,7 +208,7 @@ fn check(m: Measured) {
 
 #[test]
 fn cornell_direct_light_converges_to_the_reference() {
-    if let Some(result) = compare("builtin:cornell", None, 32, 1024, &[4, 64, 256]) {
+    if let Some(result) = compare("builtin:cornell", None, no_edit, 32, 1024, &[4, 64, 256]) {
         check(result);
     }
 }
@@ -196,7 +222,14 @@ fn textured_model_under_the_environment_converges_to_the_reference() {
         eprintln!("skipped: {} or {} missing", model.display(), sky.display());
         return;
     }
-    if let Some(result) = compare(model.to_str().unwrap(), Some(&sky), 32, 512, &[4, 64, 256]) {
+    if let Some(result) = compare(
+        model.to_str().unwrap(),
+        Some(&sky),
+        no_edit,
+        32,
+        512,
+        &[4, 64, 256],
+    ) {
         check(result);
     }
 }
@@ -205,7 +238,7 @@ fn textured_model_under_the_environment_converges_to_the_reference() {
 fn many_lights_converge_to_the_reference() {
     // 256 punctual lights (more than the pass evaluates one by one: picked by power) and 512
     // emissive triangles.
-    if let Some(result) = compare("builtin:many-lights", None, 32, 512, &[4, 64, 256]) {
+    if let Some(result) = compare("builtin:many-lights", None, no_edit, 32, 512, &[4, 64, 256]) {
         check(result);
     }
 }
@@ -213,7 +246,21 @@ fn many_lights_converge_to_the_reference() {
 #[test]
 fn hard_cases_converge_to_the_reference() {
     // A far copy of the scene 1e5 units away, tiny emitters, a directional and point lights.
-    if let Some(result) = compare("builtin:hard-cases", None, 32, 512, &[4, 64, 256]) {
+    if let Some(result) = compare("builtin:hard-cases", None, no_edit, 32, 512, &[4, 64, 256]) {
+        check(result);
+    }
+}
+
+#[test]
+fn alpha_masked_block_is_a_hole_as_in_the_reference() {
+    if let Some(result) = compare(
+        "builtin:cornell",
+        None,
+        mask_tall_block,
+        32,
+        512,
+        &[4, 64, 256],
+    ) {
         check(result);
     }
 }
