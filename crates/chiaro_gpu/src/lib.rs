@@ -1,9 +1,27 @@
 //! chiaro's GPU frame on wgpu: the device ([`context`]), the WGSL sources and their
-//! composition ([`shaders`]), the scene's buffers
-//! ([`gpu_scene`]).
+//! composition ([`shaders`]), the scene's buffers kept in step with the ECS world
+//! ([`gpu_scene`]), the passes ([`passes`]) run in order by [`frame`], and the headless
+//! [`Renderer`] that accumulates frames and reads the images back.
 //!
 //! It runs on any adapter wgpu offers, CPU rasterizers such as lavapipe included: rays are
 //! traversed in compute shaders over the BVHs `chiaro_bvh` builds, with no hardware ray tracing.
+//!
+//! ```
+//! use bevy_ecs::world::World;
+//! use chiaro_gpu::{GpuContext, RenderSettings, Renderer};
+//!
+//! let Ok(context) = GpuContext::new_headless() else {
+//!     return; // no GPU adapter on this machine
+//! };
+//! let mut world = World::new();
+//! chiaro_scene::load_scene(&mut world, "builtin:cornell").unwrap();
+//! let mut renderer = Renderer::new(context);
+//! let settings = RenderSettings { width: 16, height: 16, frames: 2, ..Default::default() };
+//! let image = renderer.render(&mut world, &settings).unwrap();
+//! assert_eq!(image.hdr.len(), 16 * 16);
+//! assert_eq!(image.ldr.len(), 16 * 16 * 4);
+//! assert!(image.hdr.iter().any(|p| p.max_element() > 0.0));
+//! ```
 
 #![warn(missing_docs)]
 
