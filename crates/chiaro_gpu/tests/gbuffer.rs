@@ -1,7 +1,8 @@
 //! The G-buffer's motion vectors: after one instance moves, the pixels showing it point back to
 //! where its surface was in the previous frame (projected on the CPU), and the pixels of the
 //! static rest point nowhere; after the camera moves, every pixel's vector is the camera's
-//! reprojection.
+//! reprojection. And the renderer's bad input (no camera, a zero or oversized image, a read
+//! before any render) gives an error naming the fault.
 
 mod common;
 
@@ -115,4 +116,45 @@ fn motion_vectors_follow_instances_and_the_camera() {
         "only {checked} pixels covered after the turn"
     );
     eprintln!("{checked} pixels checked after the turn");
+}
+
+#[test]
+fn bad_input_is_an_error_not_a_panic() {
+    let Some(gpu) = common::gpu() else { return };
+    let mut renderer = Renderer::new(gpu);
+    let settings = RenderSettings {
+        width: 8,
+        height: 8,
+        frames: 1,
+        ..RenderSettings::default()
+    };
+    assert!(matches!(
+        renderer.read(&settings),
+        Err(chiaro_gpu::RenderError::NotRendered)
+    ));
+    // A world without a camera.
+    let mut world = World::new();
+    let err = renderer.render(&mut world, &settings).unwrap_err();
+    assert!(err.to_string().contains("no active camera"), "{err}");
+    // A zero or oversized image.
+    load_scene(&mut world, "builtin:cornell").unwrap();
+    for (width, height) in [(0, 8), (8, 1 << 20)] {
+        let err = renderer
+            .render(
+                &mut world,
+                &RenderSettings {
+                    width,
+                    height,
+                    ..settings
+                },
+            )
+            .unwrap_err();
+        assert!(
+            err.to_string().contains(&format!("{width}x{height}")),
+            "{err}"
+        );
+    }
+    // The same renderer still renders afterwards.
+    let image = renderer.render(&mut world, &settings).unwrap();
+    assert_eq!(image.hdr.len(), 64);
 }
