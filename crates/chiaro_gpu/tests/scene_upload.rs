@@ -1,6 +1,7 @@
 //! Change-driven upload: the first frame uploads the scene, a frame with no change uploads
 //! nothing, moving one instance writes that instance and the TLAS nodes only (and, a frame
-//! later, its previous-frame transform), and a material edit writes that material only.
+//! later, its previous-frame transform), a material edit writes that material only, a light
+//! edit the light table only, a new sky the area-light table and the scene info only.
 
 mod common;
 
@@ -82,4 +83,42 @@ fn uploads_follow_changes_only() {
     let edited = last(&world);
     assert_eq!(edited.written(), ["scene materials"], "{edited:?}");
     assert_eq!(edited.bytes, 256);
+}
+
+#[test]
+fn light_and_environment_edits_rewrite_their_tables_only() {
+    let Some(gpu) = common::gpu() else { return };
+    let mut world = World::new();
+    load_scene(&mut world, "builtin:many-lights?quads=4&lights=12").unwrap();
+    world.insert_resource(GpuScene::new(&gpu.device, &gpu.queue));
+    let mut schedule = Schedule::default();
+    add_gpu_scene_systems(&mut schedule);
+    schedule.run(&mut world);
+    assert_eq!(world.resource::<GpuScene>().info.light_count, 12);
+    schedule.run(&mut world);
+    assert_eq!(last(&world).bytes, 0);
+
+    // One light brighter: the light table (its record, and the selection CDF after it).
+    let mut lights = world.query::<&mut chiaro_scene::Light>();
+    lights.iter_mut(&mut world).next().unwrap().intensity *= 2.0;
+    schedule.run(&mut world);
+    let edited = last(&world);
+    assert_eq!(edited.written(), ["scene lights"], "{edited:?}");
+    assert!(edited.bytes >= 64 && edited.bytes <= 12 * 64);
+
+    // A constant sky: the environment joins the area-light table and the scene info.
+    world.insert_resource(chiaro_scene::Environment::constant(Vec3::splat(0.5)));
+    schedule.run(&mut world);
+    let sky = last(&world);
+    assert_eq!(
+        sky.written(),
+        ["scene area lights", "scene info"],
+        "{sky:?}"
+    );
+    let scene = world.resource::<GpuScene>();
+    assert_eq!(
+        scene.info.env_kind,
+        chiaro_gpu::gpu_scene::layout::ENV_CONSTANT
+    );
+    assert!(scene.info.env_pmf > 0.0 && scene.info.env_pmf < 1.0);
 }
