@@ -100,9 +100,10 @@ fn fs_main(in: VertexOut) -> GbufferOut {
     let front_facing = dot(incoming, geometric_front) < 0.0;
     var shading_front = safe_normalize(in.normal, geometric_front);
     if (material.normal_texture.texture != NO_INDEX) && (mesh_flags & MESH_HAS_TANGENTS) != 0u {
-        let texel = texture_sample_slot(material.normal_texture, in.uvs, mesh_flags, vec4<f32>(0.0));
+        // Alpha -1 marks a lookup that found no texel (missing UV set or texture).
+        let texel = texture_sample_slot(material.normal_texture, in.uvs, mesh_flags, vec4<f32>(-1.0));
         let tangent = safe_normalize(in.tangent.xyz - shading_front * dot(shading_front, in.tangent.xyz), vec3<f32>(0.0));
-        if texel.w > 0.0 && any(tangent != vec3<f32>(0.0)) {
+        if texel.w >= 0.0 && any(tangent != vec3<f32>(0.0)) {
             let mirror = select(1.0, -1.0, scene_instance_extras[in.instance].mirrored != 0u);
             let bitangent = cross(shading_front, tangent) * sign(in.tangent.w) * mirror;
             let m = (texel.xyz * 2.0 - 1.0) * vec3<f32>(material.normal_scale, material.normal_scale, 1.0);
