@@ -82,6 +82,7 @@ pub struct GpuScene {
     /// The uploads of the last [`upload_gpu_scene`] run.
     pub last: UploadStats,
     uploaded: bool,
+    motion_pending: bool,
     current_transforms: Vec<[[f32; 4]; 3]>,
     area_first: Vec<u32>,
 }
@@ -159,6 +160,7 @@ impl GpuScene {
             total: UploadStats::default(),
             last: UploadStats::default(),
             uploaded: false,
+            motion_pending: false,
             current_transforms: Vec::new(),
             area_first: Vec::new(),
         }
@@ -328,18 +330,50 @@ pub fn upload_gpu_scene(
         scene.area_first = first;
         put!(scene, stats, realloc, area_lights, &table);
     }
-    // The previous frame's transforms: what was current at the last run.
+    // The per-instance extras change when the BVH or the area lights do, and once more the
+    // frame after an instance moved (its previous transform catches up); otherwise this
+    // per-frame system does no per-instance work.
+    let area_changed = bvh_changed || materials_changed || env_changed;
+    if area_changed || scene.motion_pending {
+        write_instance_extras(scene, bvh_changed, &mut stats, &mut realloc);
+        scene.motion_pending = bvh_changed;
+    }
+    info.instance_count = scene.instances.contents().len() as u32;
+    scene.info = info;
+    put!(scene, stats, realloc, info_buffer, &[info]);
+
+    if realloc {
+        scene.remake_bind_group();
+    }
+    scene.uploaded = true;
+    scene.total.bytes += stats.bytes;
+    scene.total.writes += stats.writes;
+    scene.total.allocations += stats.allocations;
+    for (label, bytes) in &stats.per_buffer {
+        *scene.total.per_buffer.entry(label).or_default() += bytes;
+    }
+    scene.last = stats;
+}
+
+/// Rebuilds the per-instance extras: the previous frame's transforms (what was current at the
+/// last rebuild), the area-light table offsets and the mirroring flags.
+fn write_instance_extras(
+    scene: &mut GpuScene,
+    bvh_changed: bool,
+    stats: &mut UploadStats,
+    realloc: &mut bool,
+) {
     let previous = std::mem::take(&mut scene.current_transforms);
-    if bvh_changed {
-        scene.current_transforms = scene
+    scene.current_transforms = if bvh_changed {
+        scene
             .instances
             .contents()
             .iter()
             .map(|i| i.object_to_world)
-            .collect();
+            .collect()
     } else {
-        scene.current_transforms = previous.clone();
-    }
+        previous.clone()
+    };
     let extras: Vec<GpuInstanceExtra> = scene
         .instances
         .contents()
@@ -359,22 +393,8 @@ pub fn upload_gpu_scene(
             }
         })
         .collect();
-    put!(scene, stats, realloc, instance_extras, &extras);
-    info.instance_count = scene.instances.contents().len() as u32;
-    scene.info = info;
-    put!(scene, stats, realloc, info_buffer, &[info]);
-
-    if realloc {
-        scene.remake_bind_group();
-    }
-    scene.uploaded = true;
-    scene.total.bytes += stats.bytes;
-    scene.total.writes += stats.writes;
-    scene.total.allocations += stats.allocations;
-    for (label, bytes) in &stats.per_buffer {
-        *scene.total.per_buffer.entry(label).or_default() += bytes;
-    }
-    scene.last = stats;
+    let (d, q) = (scene.device.clone(), scene.queue.clone());
+    *realloc |= scene.instance_extras.update(&d, &q, &extras, stats);
 }
 
 /// Adds the BVH systems and [`upload_gpu_scene`] after them to `schedule`.
