@@ -30,7 +30,7 @@ struct DirectParams {
     pad: u32,
 }
 
-@group(1) @binding(0) var gbuffer_position: texture_2d<f32>;
+@group(1) @binding(0) var gbuffer_position: texture_2d<u32>;
 @group(1) @binding(1) var gbuffer_surface: texture_2d<u32>;
 @group(1) @binding(2) var gbuffer_emission: texture_2d<u32>;
 @group(1) @binding(3) var<uniform> camera: GpuCamera;

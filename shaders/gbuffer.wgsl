@@ -74,10 +74,11 @@ fn vs_main(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance
 }
 
 struct GbufferOut {
-    @location(0) position: vec4<f32>,
+    @location(0) position: vec4<u32>,
     @location(1) surface: vec4<u32>,
     @location(2) emission: vec4<u32>,
-    @location(3) motion: vec2<f32>,
+    // f32 bits.
+    @location(3) motion: vec2<u32>,
 }
 
 fn safe_normalize(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
@@ -141,6 +142,6 @@ fn fs_main(in: VertexOut) -> GbufferOut {
     let now = camera.unjittered_view_proj * vec4<f32>(in.world, 1.0);
     let size = vec2<f32>(camera.width, camera.height);
     let to_pixel = vec2<f32>(0.5, -0.5) * size;
-    out.motion = (in.previous_clip.xy / in.previous_clip.w - now.xy / now.w) * to_pixel;
+    out.motion = bitcast<vec2<u32>>((in.previous_clip.xy / in.previous_clip.w - now.xy / now.w) * to_pixel);
     return out;
 }

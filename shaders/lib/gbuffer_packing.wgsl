@@ -1,5 +1,6 @@
-// The G-buffer's texel formats: how a surface is packed into the position (rgba32float: world
-// position, roughness), surface (rgba32uint: normals, base colour, metallic) and emission
+// The G-buffer's texel formats: how a surface is packed into the position (rgba32uint: world
+// position and roughness as f32 bits; integer targets render on every backend, 32-bit float
+// ones not on GL), surface (rgba32uint: normals, base colour, metallic) and emission
 // (rgba32uint: emission as f32 bits, instance + 1 with the shading flag in bit 31) targets
 // and read back. Base colour and metallic are 16-bit unorm; normals are octahedral in
 // 2 x 16-bit snorm (Cigolle et al., "A Survey of Efficient Representations for Independent
@@ -18,7 +19,7 @@ struct GbufferSurface {
 }
 
 struct GbufferTexels {
-    position: vec4<f32>,
+    position: vec4<u32>,
     surface: vec4<u32>,
     emission: vec4<u32>,
 }
@@ -44,7 +45,7 @@ fn octahedral_decode(packed: u32) -> vec3<f32> {
 
 fn gbuffer_pack(s: GbufferSurface) -> GbufferTexels {
     var t: GbufferTexels;
-    t.position = vec4<f32>(s.position, s.roughness);
+    t.position = bitcast<vec4<u32>>(vec4<f32>(s.position, s.roughness));
     t.surface = vec4<u32>(
         octahedral_encode(s.geometric_normal),
         octahedral_encode(s.shading_normal),
@@ -67,8 +68,9 @@ fn gbuffer_covered(t: GbufferTexels) -> bool {
 // The surface of a G-buffer texel (meaningless where gbuffer_covered is false).
 fn gbuffer_unpack(t: GbufferTexels) -> GbufferSurface {
     var s: GbufferSurface;
-    s.position = t.position.xyz;
-    s.roughness = t.position.w;
+    let position = bitcast<vec4<f32>>(t.position);
+    s.position = position.xyz;
+    s.roughness = position.w;
     s.geometric_normal = octahedral_decode(t.surface.x);
     s.shading_normal = octahedral_decode(t.surface.y);
     let bz = unpack2x16unorm(t.surface.w);

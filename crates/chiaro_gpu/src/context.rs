@@ -70,6 +70,22 @@ const REQUIRED_DOWNLEVEL: wgpu::DownlevelFlags = wgpu::DownlevelFlags::COMPUTE_S
     .union(wgpu::DownlevelFlags::FRAGMENT_STORAGE)
     .union(wgpu::DownlevelFlags::INDIRECT_EXECUTION);
 
+/// The texture formats the frame uses and how (see [`crate::targets`]).
+fn required_formats() -> [(wgpu::TextureFormat, wgpu::TextureUsages); 6] {
+    use crate::targets as t;
+    use wgpu::TextureUsages as U;
+    let attachment = U::RENDER_ATTACHMENT | U::TEXTURE_BINDING;
+    let storage = U::STORAGE_BINDING | U::TEXTURE_BINDING;
+    [
+        (t::POSITION_FORMAT, attachment),
+        (t::SURFACE_FORMAT, attachment),
+        (t::MOTION_FORMAT, attachment),
+        (t::DEPTH_FORMAT, U::RENDER_ATTACHMENT),
+        (t::HDR_FORMAT, storage),
+        (t::LDR_FORMAT, storage),
+    ]
+}
+
 /// What `adapter` lacks for chiaro, empty when nothing.
 pub fn missing_capabilities(adapter: &wgpu::Adapter) -> String {
     let mut missing = String::new();
@@ -77,6 +93,13 @@ pub fn missing_capabilities(adapter: &wgpu::Adapter) -> String {
     required_limits(&have).check_limits_with_fail_fn(&have, false, |name, need, got| {
         let _ = write!(missing, "{}{name}: need {need}, have {got}", sep(&missing));
     });
+    for (format, usages) in required_formats() {
+        let allowed = adapter.get_texture_format_features(format).allowed_usages;
+        let lacking = usages.difference(allowed);
+        if !lacking.is_empty() {
+            let _ = write!(missing, "{}{format:?} as {lacking:?}", sep(&missing));
+        }
+    }
     let flags = adapter.get_downlevel_capabilities().flags;
     let lacking = REQUIRED_DOWNLEVEL.difference(flags);
     if !lacking.is_empty() {

@@ -1,14 +1,15 @@
 //! The frame's render targets and images: the G-buffer, the direct light of the frame, the
 //! accumulated HDR image and the tonemapped LDR image, all at the output size.
 
-/// Format of the G-buffer's position target (world xyz, roughness).
-pub const POSITION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// Format of the G-buffer's position target (world xyz, roughness; f32 bits: integer targets
+/// render on every backend, 32-bit float ones not on GL).
+pub const POSITION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 /// Format of the G-buffer's surface target (normals, base colour, metallic).
 pub const SURFACE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 /// Format of the G-buffer's emission target (emission, instance, shading flag).
 pub const EMISSION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
-/// Format of the G-buffer's motion vectors (pixels to the previous frame's position).
-pub const MOTION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
+/// Format of the G-buffer's motion vectors (pixels to the previous frame's position, f32 bits).
+pub const MOTION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Uint;
 /// Depth format.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Format of the HDR images.

@@ -40,7 +40,7 @@ impl DirectPass {
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("direct layout"),
             entries: &[
-                e(0, texture(S::Float { filterable: false })),
+                e(0, texture(S::Uint)),
                 e(1, texture(S::Uint)),
                 e(2, texture(S::Uint)),
                 e(3, uniform()),
