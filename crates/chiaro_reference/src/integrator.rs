@@ -7,7 +7,7 @@
 //! single strategy unweighted. Russian roulette (after a configurable depth) keeps the estimate
 //! unbiased by dividing the survivors' throughput by their survival probability.
 
-use chiaro_bvh::{Hit, Ray, offset_ray_origin};
+use chiaro_bvh::{Ray, offset_ray_origin};
 use chiaro_shading::brdf;
 use chiaro_shading::lights::{self, LightSample};
 use chiaro_shading::rng::Pcg32;
@@ -16,7 +16,7 @@ use glam::{Vec2, Vec3};
 
 use crate::light_table::LightEntry;
 use crate::scene::RenderScene;
-use crate::surface::{SurfaceHit, alpha_passes, emission_at, surface_at, uvs_at};
+use crate::surface::{SurfaceHit, emission_at, surface_at, uvs_at};
 
 /// How paths are traced.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -129,7 +129,6 @@ fn sample_light(scene: &RenderScene, entry: &LightEntry, p: Vec3, u: Vec2) -> Op
 
 /// Next-event estimate at `si`: one light picked by power, sampled, tested for visibility.
 fn direct_light(scene: &RenderScene, si: &SurfaceHit, wo: Vec3, rng: &mut Pcg32) -> Vec3 {
-    let accept = |h: &Hit| alpha_passes(scene, h);
     let (u_pick, u) = (rng.next_f32(), rng.next_vec2());
     let Some((index, pick)) = scene.lights.pick(u_pick) else {
         return Vec3::ZERO;
@@ -155,7 +154,7 @@ fn direct_light(scene: &RenderScene, si: &SurfaceHit, wo: Vec3, rng: &mut Pcg32)
             f32::INFINITY
         },
     };
-    if scene.bvh.any_hit_with(&shadow, &accept) {
+    if scene.occluded(&shadow) {
         return Vec3::ZERO;
     }
     if ls.delta {
@@ -183,7 +182,6 @@ pub fn radiance(
     rng: &mut Pcg32,
     settings: &PathSettings,
 ) -> Vec3 {
-    let accept = |h: &Hit| alpha_passes(scene, h);
     let mut total = Vec3::ZERO;
     let mut throughput = Vec3::ONE;
     let mut previous: Option<Previous> = None;
@@ -193,7 +191,7 @@ pub fn radiance(
         settings.max_depth
     };
     for depth in 0..=last {
-        let Some(hit) = scene.bvh.closest_hit_with(&ray, &accept) else {
+        let Some(hit) = scene.closest_hit(&ray) else {
             let weight = emission_weight(previous, |_| {
                 scene.lights.environment_pmf() * scene.environment.pdf(ray.direction)
             });
