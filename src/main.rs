@@ -70,7 +70,8 @@ enum Command {
         /// Worker threads (default: one per core).
         #[arg(long)]
         threads: Option<usize>,
-        /// Most bounces per path (Russian roulette ends most paths well before).
+        /// Most bounces per path: 0 shows emitters only, 1 is direct light, and the light the
+        /// last bounce's ray reaches is counted (Russian roulette ends most paths well before).
         #[arg(long, default_value_t = 64)]
         max_depth: u32,
     },
