@@ -8,7 +8,7 @@ converged render of the same scene made with a different seed (so the two share 
 The converged render's own noise is printed too (a quarter of the relMSE between its halves):
 figures near it are limited by the reference, not by the test image.
 
-Reads EXR with Mitsuba's Bitmap (pip install mitsuba numpy), as the other scripts here do.
+Measures with `chiaro compare` (needs only a release build: cargo build --release).
 
 Example:
     python3 scripts/reference_convergence.py --scene builtin:cornell --size 128x128 \\
@@ -18,8 +18,6 @@ Example:
 import argparse
 import os
 import subprocess
-
-import numpy as np
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -32,8 +30,9 @@ def render(chiaro, scene, size, spp, seed, out):
     return seconds, halves
 
 
-def rel_mse(x, y):
-    return float(np.mean((x - y) ** 2 / (y * y + 0.01)))
+def rel_mse(chiaro, test, reference):
+    text = subprocess.run([chiaro, "compare", test, reference], check=True, capture_output=True, text=True).stdout
+    return next(float(line.split()[1]) for line in text.splitlines() if line.startswith("relmse "))
 
 
 def main():
@@ -46,15 +45,8 @@ def main():
     ap.add_argument("--out-dir", default="/tmp/chiaro_convergence")
     args = ap.parse_args()
     os.makedirs(args.out_dir, exist_ok=True)
-    import mitsuba as mi
-    mi.set_variant("scalar_rgb")
-
-    def read(path):
-        return np.array(mi.Bitmap(path), dtype=np.float64)[..., :3]
-
     ref_path = os.path.join(args.out_dir, "converged.exr")
     seconds, halves = render(args.chiaro, args.scene, args.size, args.reference_spp, 1, ref_path)
-    reference = read(ref_path)
     print(f"{args.scene} {args.size}: converged {args.reference_spp} spp (seed 1) in {seconds:.1f} s, "
           f"its own noise ~ {halves / 4:.2e}")
     print("| spp | render time (s) | relMSE vs converged |")
@@ -62,7 +54,7 @@ def main():
     for spp in args.spp:
         path = os.path.join(args.out_dir, f"spp{spp}.exr")
         seconds, _ = render(args.chiaro, args.scene, args.size, spp, 0, path)
-        print(f"| {spp} | {seconds:.2f} | {rel_mse(read(path), reference):.3e} |")
+        print(f"| {spp} | {seconds:.2f} | {rel_mse(args.chiaro, path, ref_path):.3e} |")
 
 
 if __name__ == "__main__":

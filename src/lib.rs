@@ -2,7 +2,8 @@
 //!
 //! This crate re-exports the workspace's crates under one name: [`scene`] (the scene as ECS
 //! data, glTF import, built-in scenes), [`shading`] (the shading model), [`bvh`] (BLAS and TLAS
-//! over the scene) and [`reference`] (the CPU reference path tracer).
+//! over the scene), [`reference`] (the CPU reference path tracer) and [`eval`] (image metrics
+//! against a reference).
 //!
 //! ```
 //! use bevy_ecs::world::World;
@@ -13,6 +14,7 @@
 //! ```
 
 pub use chiaro_bvh as bvh;
+pub use chiaro_eval as eval;
 pub use chiaro_reference as reference;
 pub use chiaro_scene as scene;
 pub use chiaro_shading as shading;

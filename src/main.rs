@@ -1,5 +1,7 @@
 //! The `chiaro` command line.
 
+mod compare;
+
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -75,6 +77,9 @@ enum Command {
         #[arg(long, default_value_t = 64)]
         max_depth: u32,
     },
+    /// Measure an image against a reference: relMSE (linear HDR, epsilon 0.01) and SMAPE, then
+    /// PSNR (dB) and mean LDR-FLIP of the tonemapped 8-bit images; one `name value` per line.
+    Compare(compare::CompareArgs),
 }
 
 fn parse_size(text: &str) -> Result<(u32, u32), String> {
@@ -91,6 +96,7 @@ fn main() -> Result<()> {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
     match Cli::parse().command {
         Command::Info { scene } => info(&scene),
+        Command::Compare(args) => compare::run(&args),
         Command::Reference {
             scene,
             spp,
