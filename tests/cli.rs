@@ -17,6 +17,7 @@ fn info_prints_the_scene_summary() {
     let text = String::from_utf8(out.stdout).unwrap();
     assert!(text.contains("meshes: 8 (32 triangles stored)"), "{text}");
     assert!(text.contains("emissive triangles: 2"), "{text}");
+    assert!(text.contains("features: emissive triangles\n"), "{text}");
 }
 
 #[test]
