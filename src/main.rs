@@ -10,7 +10,9 @@ use bevy_ecs::world::World;
 use clap::{Args, Parser, Subcommand};
 use glam::Vec3;
 
-use chiaro::reference::{PathSettings, RenderSettings, render_world, write_exr, write_png};
+use chiaro::reference::{
+    LightSampling, PathSettings, RenderSettings, render_world, write_exr, write_png,
+};
 use chiaro::scene::{Environment, SceneInfo, load_scene};
 use chiaro::shading::tonemap::Tonemapper;
 
@@ -76,6 +78,10 @@ enum Command {
         /// last bounce's ray reaches is counted (Russian roulette ends most paths well before).
         #[arg(long, default_value_t = 64)]
         max_depth: u32,
+        /// How a light is picked for next-event estimation: tree (by importance to the shading
+        /// point, through a light tree) or power (by power alone).
+        #[arg(long, default_value = "tree")]
+        light_sampling: LightSampling,
     },
     /// Measure an image against a reference: relMSE (linear HDR, epsilon 0.01) and SMAPE, then
     /// PSNR (dB) and mean LDR-FLIP of the tonemapped 8-bit images; one `name value` per line.
@@ -106,10 +112,12 @@ fn main() -> Result<()> {
             seed,
             threads,
             max_depth,
+            light_sampling,
         } => {
             let path = PathSettings {
                 max_depth,
                 direct_only,
+                light_sampling,
                 ..PathSettings::default()
             };
             let settings = RenderSettings {

@@ -11,7 +11,7 @@ use chiaro_shading::lights::EnvironmentLight;
 
 use crate::camera::CameraRays;
 use crate::error::ReferenceError;
-use crate::light_table::LightTable;
+use crate::light_table::{LightSampling, LightTable};
 use crate::surface::alpha_passes;
 
 /// A scene ready to be path traced; borrows the World's assets.
@@ -54,14 +54,14 @@ fn environment_light(world: &World) -> EnvironmentLight {
     }
 }
 
-/// Builds the BVH and light table of `world` (propagating transforms first). Call
-/// [`RenderScene::new`] with the result.
-pub fn prepare(world: &mut World) -> (SceneBvh, LightTable) {
+/// Builds the BVH and light table of `world` (propagating transforms first), the lights picked
+/// by `sampling`. Call [`RenderScene::new`] with the result.
+pub fn prepare(world: &mut World, sampling: LightSampling) -> (SceneBvh, LightTable) {
     let bvh = SceneBvh::build(world);
     let mean = world
         .get_resource::<Environment>()
         .map_or(glam::Vec3::ZERO, Environment::mean_radiance);
-    let lights = LightTable::gather(world, &bvh, mean);
+    let lights = LightTable::gather(world, &bvh, mean, sampling);
     (bvh, lights)
 }
 
