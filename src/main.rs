@@ -1,5 +1,7 @@
 //! The `chiaro` command line.
 
+mod compare;
+
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -8,7 +10,9 @@ use bevy_ecs::world::World;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use glam::Vec3;
 
-use chiaro::reference::{PathSettings, RenderSettings, render_world, write_exr, write_png};
+use chiaro::reference::{
+    LightSampling, PathSettings, RenderSettings, render_world, write_exr, write_png,
+};
 use chiaro::scene::{Environment, SceneInfo, load_scene};
 use chiaro::shading::tonemap::Tonemapper;
 
@@ -98,10 +102,18 @@ enum Command {
         /// Worker threads (default: one per core).
         #[arg(long)]
         threads: Option<usize>,
-        /// Most bounces per path (Russian roulette ends most paths well before).
+        /// Most bounces per path: 0 shows emitters only, 1 is direct light, and the light the
+        /// last bounce's ray reaches is counted (Russian roulette ends most paths well before).
         #[arg(long, default_value_t = 64)]
         max_depth: u32,
+        /// How a light is picked for next-event estimation: tree (by importance to the shading
+        /// point, through a light tree) or power (by power alone).
+        #[arg(long, default_value = "tree")]
+        light_sampling: LightSampling,
     },
+    /// Measure an image against a reference: relMSE (linear HDR, epsilon 0.01) and SMAPE, then
+    /// PSNR (dB) and mean LDR-FLIP of the tonemapped 8-bit images; one `name value` per line.
+    Compare(compare::CompareArgs),
 }
 
 /// What `chiaro render` computes per frame.
@@ -146,6 +158,7 @@ fn main() -> Result<()> {
             };
             render(&scene, size, frames, &out, mode, seed)
         }
+        Command::Compare(args) => compare::run(&args),
         Command::Reference {
             scene,
             spp,
@@ -155,10 +168,12 @@ fn main() -> Result<()> {
             seed,
             threads,
             max_depth,
+            light_sampling,
         } => {
             let path = PathSettings {
                 max_depth,
                 direct_only,
+                light_sampling,
                 ..PathSettings::default()
             };
             let settings = RenderSettings {

@@ -17,6 +17,7 @@ fn info_prints_the_scene_summary() {
     let text = String::from_utf8(out.stdout).unwrap();
     assert!(text.contains("meshes: 8 (32 triangles stored)"), "{text}");
     assert!(text.contains("emissive triangles: 2"), "{text}");
+    assert!(text.contains("features: emissive triangles\n"), "{text}");
 }
 
 #[test]
@@ -72,4 +73,63 @@ fn bad_scene_fails_with_a_message_naming_it() {
     assert!(err.contains("/no/such/model.glb: cannot read it"), "{err}");
     let out = chiaro(&["reference", "builtin:cornell", "--size", "0x4"]);
     assert!(!out.status.success());
+}
+
+#[test]
+fn compare_prints_each_measure_and_writes_a_heatmap() {
+    let dir = std::env::temp_dir().join(format!("chiaro-cli-compare-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (reference, test, heatmap) = (
+        dir.join("reference.exr"),
+        dir.join("test.exr"),
+        dir.join("heat.png"),
+    );
+    let reference_pixels: Vec<glam::Vec3> = (0..48)
+        .map(|i| glam::Vec3::new(i as f32 / 47.0, 0.3, 2.0))
+        .collect();
+    let test_pixels: Vec<glam::Vec3> = reference_pixels
+        .iter()
+        .enumerate()
+        .map(|(i, p)| *p * if i % 3 == 0 { 1.2 } else { 0.9 })
+        .collect();
+    chiaro::reference::write_exr(&reference, 8, 6, &reference_pixels).unwrap();
+    chiaro::reference::write_exr(&test, 8, 6, &test_pixels).unwrap();
+    let out = chiaro(&[
+        "compare",
+        test.to_str().unwrap(),
+        reference.to_str().unwrap(),
+        "--heatmap",
+        heatmap.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    let value = |name: &str| -> f64 {
+        text.lines()
+            .find_map(|l| l.strip_prefix(name)?.strip_prefix(' '))
+            .unwrap_or_else(|| panic!("no {name} line in {text}"))
+            .parse()
+            .unwrap()
+    };
+    let expected = chiaro::eval::metrics::rel_mse(&test_pixels, &reference_pixels, 0.01);
+    assert!((value("relmse") / expected - 1.0).abs() < 1e-5, "{text}");
+    assert!(value("smape") > 0.0 && value("flip_mean") > 0.0, "{text}");
+    assert!(value("psnr_db").is_finite(), "{text}");
+    assert_eq!(
+        image::open(&heatmap).unwrap().into_rgb8().dimensions(),
+        (8, 6)
+    );
+
+    let missing = dir.join("missing.exr");
+    let out = chiaro(&[
+        "compare",
+        missing.to_str().unwrap(),
+        reference.to_str().unwrap(),
+    ]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("missing.exr"), "{err}");
 }

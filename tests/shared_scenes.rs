@@ -188,3 +188,54 @@ fn every_shared_model_imports_with_the_counts_its_json_declares() {
         dir.display()
     );
 }
+
+#[test]
+fn every_shared_model_reports_the_material_features_its_json_declares() {
+    let dir = common::shared_dir("scenes");
+    let mut checked = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if !matches!(
+            path.extension().and_then(|e| e.to_str()),
+            Some("glb" | "gltf")
+        ) {
+            continue;
+        }
+        let json = common::gltf_json(&std::fs::read(&path).unwrap());
+        let materials = array(&json["materials"]);
+        let any = |f: &dyn Fn(&Value) -> bool| materials.iter().any(f);
+        let mut world = World::new();
+        load_scene(&mut world, path.to_str().unwrap()).unwrap();
+        let features = SceneInfo::gather(&mut world).features;
+        let name = path.display();
+        assert_eq!(
+            features.normal_maps,
+            any(&|m| m.get("normalTexture").is_some()),
+            "{name}"
+        );
+        assert_eq!(
+            features.base_color_textures,
+            any(&|m| m["pbrMetallicRoughness"].get("baseColorTexture").is_some()),
+            "{name}"
+        );
+        assert_eq!(
+            features.metallic_roughness_textures,
+            any(&|m| m["pbrMetallicRoughness"]
+                .get("metallicRoughnessTexture")
+                .is_some()),
+            "{name}"
+        );
+        assert_eq!(
+            features.alpha_masks,
+            any(&|m| m["alphaMode"] == "MASK"),
+            "{name}"
+        );
+        assert_eq!(
+            features.double_sided,
+            any(&|m| m["doubleSided"] == true),
+            "{name}"
+        );
+        checked += 1;
+    }
+    assert!(checked >= 3, "only {checked} models in {}", dir.display());
+}

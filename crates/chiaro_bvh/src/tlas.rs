@@ -15,6 +15,7 @@
 //!   value at the last build asks for a full rebuild. Refits of instances scattered across the
 //!   scene do that; an instance moved outside the scene does not (the root grows with it).
 
+use arrayvec::ArrayVec;
 use chiaro_scene::Aabb;
 use glam::Vec3;
 
@@ -293,8 +294,7 @@ impl Tlas {
         if entry(root, *t_max).is_infinite() {
             return false;
         }
-        let mut stack = [(0u32, 0f32); STACK_SIZE];
-        let mut top = 0usize;
+        let mut stack = ArrayVec::<(u32, f32), STACK_SIZE>::new();
         let mut node = root;
         loop {
             match node.instance() {
@@ -315,8 +315,7 @@ impl Tlas {
                             } else {
                                 (right, first, t_left)
                             };
-                            stack[top] = (far as u32, t_far);
-                            top += 1;
+                            stack.push((far as u32, t_far));
                             node = near;
                             continue;
                         }
@@ -333,11 +332,9 @@ impl Tlas {
                 }
             }
             loop {
-                if top == 0 {
+                let Some((index, t_entry)) = stack.pop() else {
                     return false;
-                }
-                top -= 1;
-                let (index, t_entry) = stack[top];
+                };
                 if t_entry < *t_max {
                     node = &self.nodes[index as usize];
                     break;

@@ -18,6 +18,7 @@
 //!   origin lies exactly on a plane; such NaNs are replaced by the value that keeps the ray in
 //!   the slab.
 
+use arrayvec::ArrayVec;
 use glam::{UVec2, Vec3, Vec3A, Vec4, uvec2};
 use obvhs::cwbvh::node::{CwBvhNode, extract_byte64};
 
@@ -151,8 +152,8 @@ where
     if nodes.is_empty() {
         return false;
     }
-    let mut stack = [UVec2::ZERO; STACK_SIZE];
-    let mut top = 0usize;
+    // Not zero-filled per ray, unlike an array: this runs once per instance a ray visits.
+    let mut stack = ArrayVec::<UVec2, STACK_SIZE>::new();
     // The root, as the only inner child of a virtual parent.
     let mut group = uvec2(0, 0x8000_0000);
     let mut triangle_group = UVec2::ZERO;
@@ -175,8 +176,7 @@ where
             let slot_bit = 31 - hits.leading_zeros();
             group.y &= !(1 << slot_bit);
             if group.y & 0xff00_0000 != 0 {
-                stack[top] = group;
-                top += 1;
+                stack.push(group);
             }
             // Child slot from its priority bit, then its rank among the inner children.
             let slot = (slot_bit - 24) ^ (node_ray.oct_inv4 & 0xff);
@@ -192,11 +192,10 @@ where
             group = UVec2::ZERO;
         }
         if triangle_group.y == 0 && group.y & 0xff00_0000 == 0 {
-            if top == 0 {
+            let Some(next) = stack.pop() else {
                 return false;
-            }
-            top -= 1;
-            group = stack[top];
+            };
+            group = next;
         }
     }
 }

@@ -7,16 +7,16 @@
 //! single strategy unweighted. Russian roulette (after a configurable depth) keeps the estimate
 //! unbiased by dividing the survivors' throughput by their survival probability.
 
-use chiaro_bvh::{Hit, Ray, offset_ray_origin};
+use chiaro_bvh::{Ray, offset_ray_origin};
 use chiaro_shading::brdf;
 use chiaro_shading::lights::{self, LightSample};
 use chiaro_shading::rng::Pcg32;
 use chiaro_shading::sampling::{power_heuristic, uniform_triangle};
 use glam::{Vec2, Vec3};
 
-use crate::light_table::LightEntry;
+use crate::light_table::{LightEntry, LightSampling};
 use crate::scene::RenderScene;
-use crate::surface::{SurfaceHit, alpha_passes, emission_at, surface_at, uvs_at};
+use crate::surface::{SurfaceHit, emission_at, surface_at, uvs_at};
 
 /// How paths are traced.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -32,6 +32,8 @@ pub struct PathSettings {
     /// Emission plus direct light at the first hit only (what the GPU direct pass computes):
     /// the same as `max_depth` 1.
     pub direct_only: bool,
+    /// How next-event estimation picks a light.
+    pub light_sampling: LightSampling,
 }
 
 impl Default for PathSettings {
@@ -40,6 +42,7 @@ impl Default for PathSettings {
             max_depth: 64,
             russian_roulette_from: Some(3),
             direct_only: false,
+            light_sampling: LightSampling::default(),
         }
     }
 }
@@ -52,6 +55,8 @@ const SHADOW_RAY_REACH: f32 = 1.0 - 1e-4;
 #[derive(Clone, Copy)]
 struct Previous {
     position: Vec3,
+    /// Its shading normal: light selection may depend on it.
+    normal: Vec3,
     pdf: f32,
     delta: bool,
 }
@@ -129,9 +134,8 @@ fn sample_light(scene: &RenderScene, entry: &LightEntry, p: Vec3, u: Vec2) -> Op
 
 /// Next-event estimate at `si`: one light picked by power, sampled, tested for visibility.
 fn direct_light(scene: &RenderScene, si: &SurfaceHit, wo: Vec3, rng: &mut Pcg32) -> Vec3 {
-    let accept = |h: &Hit| alpha_passes(scene, h);
     let (u_pick, u) = (rng.next_f32(), rng.next_vec2());
-    let Some((index, pick)) = scene.lights.pick(u_pick) else {
+    let Some((index, pick)) = scene.lights.pick(u_pick, si.position, si.frame.normal) else {
         return Vec3::ZERO;
     };
     let Some(ls) = sample_light(scene, &scene.lights.lights[index], si.position, u) else {
@@ -155,7 +159,7 @@ fn direct_light(scene: &RenderScene, si: &SurfaceHit, wo: Vec3, rng: &mut Pcg32)
             f32::INFINITY
         },
     };
-    if scene.bvh.any_hit_with(&shadow, &accept) {
+    if scene.occluded(&shadow) {
         return Vec3::ZERO;
     }
     if ls.delta {
@@ -168,11 +172,11 @@ fn direct_light(scene: &RenderScene, si: &SurfaceHit, wo: Vec3, rng: &mut Pcg32)
 
 /// The MIS weight of emission reached by a BRDF-sampled ray whose light-sampling pdf is
 /// `light_pdf` (1 for camera rays and delta bounces).
-fn emission_weight(previous: Option<Previous>, light_pdf: impl FnOnce(Vec3) -> f32) -> f32 {
+fn emission_weight(previous: Option<Previous>, light_pdf: impl FnOnce(&Previous) -> f32) -> f32 {
     match previous {
         None => 1.0,
         Some(p) if p.delta => 1.0,
-        Some(p) => power_heuristic(1.0, p.pdf, 1.0, light_pdf(p.position)),
+        Some(p) => power_heuristic(1.0, p.pdf, 1.0, light_pdf(&p)),
     }
 }
 
@@ -183,7 +187,6 @@ pub fn radiance(
     rng: &mut Pcg32,
     settings: &PathSettings,
 ) -> Vec3 {
-    let accept = |h: &Hit| alpha_passes(scene, h);
     let mut total = Vec3::ZERO;
     let mut throughput = Vec3::ONE;
     let mut previous: Option<Previous> = None;
@@ -193,7 +196,7 @@ pub fn radiance(
         settings.max_depth
     };
     for depth in 0..=last {
-        let Some(hit) = scene.bvh.closest_hit_with(&ray, &accept) else {
+        let Some(hit) = scene.closest_hit(&ray) else {
             let weight = emission_weight(previous, |_| {
                 scene.lights.environment_pmf() * scene.environment.pdf(ray.direction)
             });
@@ -206,8 +209,10 @@ pub fn radiance(
                 let record = &scene.bvh.instances()[hit.instance as usize];
                 let mesh = scene.meshes.get(record.mesh).expect("stored mesh");
                 let v = crate::surface::world_triangle(mesh, hit.triangle, &record.world);
-                scene.lights.triangle_pmf(hit.instance, hit.triangle)
-                    * lights::triangle_solid_angle_pdf(v, from, si.position)
+                scene
+                    .lights
+                    .triangle_pmf(hit.instance, hit.triangle, from.position, from.normal)
+                    * lights::triangle_solid_angle_pdf(v, from.position, si.position)
             });
             total += throughput * si.emission * weight;
         }
@@ -238,6 +243,7 @@ pub fn radiance(
         };
         previous = Some(Previous {
             position: si.position,
+            normal: si.frame.normal,
             pdf: sample.pdf,
             delta: sample.delta,
         });

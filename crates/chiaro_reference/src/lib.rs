@@ -2,7 +2,8 @@
 //! against, rendered with the same shading model (`chiaro_shading`) as the GPU frame.
 //!
 //! Unbiased: camera rays jittered over the pixel (box filter); next-event estimation to every
-//! light kind with MIS against BRDF sampling; emission on hit; the environment; Russian roulette
+//! light kind with MIS against BRDF sampling (the light picked through a light tree, or by power
+//! alone); emission on hit; the environment; Russian roulette
 //! (unbiased) after a few bounces; alpha masks, normal maps and bilinear textures honoured. Tiles
 //! run on rayon and the image for a seed does not depend on the thread count. Two independent
 //! halves of the samples are kept, so the reference's own residual noise can be reported.
@@ -32,7 +33,7 @@ mod texture_sampling;
 pub use camera::CameraRays;
 pub use error::ReferenceError;
 pub use integrator::PathSettings;
-pub use light_table::{LightEntry, LightTable};
+pub use light_table::{LightEntry, LightSampling, LightTable};
 pub use output::{read_exr, write_exr, write_png};
 pub use render::{RenderOutput, RenderSettings, TILE, render};
 pub use scene::{RenderScene, prepare};
@@ -45,7 +46,7 @@ pub fn render_world(
     settings: &RenderSettings,
     progress: bool,
 ) -> Result<RenderOutput, ReferenceError> {
-    let prepared = prepare(world);
+    let prepared = prepare(world, settings.path.light_sampling);
     let scene = RenderScene::new(world, prepared, settings.width, settings.height)?;
     render(&scene, settings, progress)
 }

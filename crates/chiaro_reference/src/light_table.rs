@@ -1,7 +1,13 @@
-//! Every light of the scene in one table with a power-proportional selection distribution:
-//! punctual lights (point, spot, directional), each emissive triangle of each instance, and the
-//! environment. The path tracer picks one light per next-event estimate and needs, for MIS, the
-//! probability with which a light it hits by BRDF sampling would have been picked.
+//! Every light of the scene in one table: punctual lights (point, spot, directional), each
+//! emissive triangle of each instance, and the environment. The path tracer picks one light per
+//! next-event estimate and needs, for MIS, the probability with which a light it hits by BRDF
+//! sampling would have been picked from the point it left.
+//!
+//! Two ways to pick ([`LightSampling`]): in proportion to power alone, or through a light tree
+//! over the lights of finite extent (triangles, points, spots), which weighs each by its
+//! importance to the shading point (`chiaro_shading::light_tree`); infinitely distant lights
+//! (directional, environment) are then chosen by power, with a share equal to their part of the
+//! total power.
 
 use std::collections::HashMap;
 use std::f32::consts::PI;
@@ -11,6 +17,7 @@ use chiaro_bvh::SceneBvh;
 use chiaro_scene::{Aabb, GlobalTransform, Light, LightKind, Materials, Meshes};
 use chiaro_shading::color::luminance;
 use chiaro_shading::distribution::Distribution1D;
+use chiaro_shading::light_tree::{LightBounds, LightTree};
 use glam::Vec3;
 
 use crate::surface::world_triangle;
@@ -46,13 +53,57 @@ pub enum LightEntry {
     Environment,
 }
 
+/// How next-event estimation picks a light.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum LightSampling {
+    /// In proportion to each light's power, wherever the shading point is.
+    Power,
+    /// Through a light tree, by each light's importance to the shading point.
+    #[default]
+    Tree,
+}
+
+impl std::str::FromStr for LightSampling {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "power" => Ok(Self::Power),
+            "tree" => Ok(Self::Tree),
+            other => Err(format!(
+                "unknown light sampling '{other}' (expected power or tree)"
+            )),
+        }
+    }
+}
+
+/// How a light is picked, as built.
+#[derive(Debug)]
+enum Selection {
+    /// No light at all.
+    None,
+    /// One power-proportional distribution over every light.
+    Power(Distribution1D),
+    /// A tree over the finite lights (`finite[i]` is the table index of the tree's light `i`)
+    /// and a power distribution over the infinite ones, picked with probability `infinite_share`.
+    Tree {
+        tree: Option<LightTree>,
+        finite: Vec<usize>,
+        infinite: Option<(Distribution1D, Vec<usize>)>,
+        infinite_share: f32,
+    },
+}
+
 /// All lights and how to pick one.
-#[derive(Debug, Default)]
+#[derive(Debug)]
 pub struct LightTable {
     /// The lights.
     pub lights: Vec<LightEntry>,
-    selection: Option<Distribution1D>,
+    selection: Selection,
+    /// Emissive triangle (instance, triangle) -> table index.
     triangles: HashMap<(u32, u32), usize>,
+    /// Table index -> index in the tree's light list (finite lights under tree sampling).
+    tree_index: HashMap<usize, usize>,
     environment: Option<usize>,
 }
 
@@ -63,11 +114,18 @@ fn triangle_area(v: &[Vec3; 3]) -> f32 {
 impl LightTable {
     /// Collects the lights of `world`; `environment_power_radiance` is the environment's mean
     /// radiance (zero leaves it out of light sampling).
-    pub fn gather(world: &mut World, bvh: &SceneBvh, environment_mean: Vec3) -> Self {
+    pub fn gather(
+        world: &mut World,
+        bvh: &SceneBvh,
+        environment_mean: Vec3,
+        sampling: LightSampling,
+    ) -> Self {
         let meshes = world.resource::<Meshes>();
         let materials = world.resource::<Materials>();
         let mut lights = Vec::new();
         let mut powers = Vec::new();
+        // Bounds for the light tree; `None` for infinitely distant lights.
+        let mut extents: Vec<Option<LightBounds>> = Vec::new();
         let mut triangles = HashMap::new();
         let mut bounds = Aabb::EMPTY;
         for (index, record) in bvh.instances().iter().enumerate() {
@@ -85,7 +143,13 @@ impl LightTable {
             for triangle in 0..mesh.triangle_count() as u32 {
                 let vertices = world_triangle(mesh, triangle, &record.world);
                 triangles.insert((index as u32, triangle), lights.len());
-                powers.push(PI * sides * radiance * triangle_area(&vertices));
+                let power = PI * sides * radiance * triangle_area(&vertices);
+                powers.push(power);
+                extents.push(Some(LightBounds::triangle(
+                    vertices,
+                    power,
+                    material.double_sided,
+                )));
                 lights.push(LightEntry::Triangle {
                     instance: index as u32,
                     triangle,
@@ -106,42 +170,53 @@ impl LightTable {
                 .transform_vector(Vec3::NEG_Z)
                 .normalize_or(Vec3::NEG_Z);
             let position = global.translation();
-            let (entry, power) = match light.kind {
-                LightKind::Point => (
-                    LightEntry::Point {
-                        position,
-                        intensity,
-                        range: light.range,
-                    },
-                    4.0 * PI * luminance(intensity),
-                ),
+            let (entry, power, extent) = match light.kind {
+                LightKind::Point => {
+                    let power = 4.0 * PI * luminance(intensity);
+                    (
+                        LightEntry::Point {
+                            position,
+                            intensity,
+                            range: light.range,
+                        },
+                        power,
+                        Some(LightBounds::point(position, power)),
+                    )
+                }
                 LightKind::Spot {
                     inner_cone_angle,
                     outer_cone_angle,
-                } => (
-                    LightEntry::Spot {
-                        position,
-                        axis,
-                        intensity,
-                        inner: inner_cone_angle,
-                        outer: outer_cone_angle,
-                        range: light.range,
-                    },
-                    2.0 * PI
+                } => {
+                    let power = 2.0
+                        * PI
                         * (1.0 - (0.5 * (inner_cone_angle + outer_cone_angle)).cos())
-                        * luminance(intensity),
-                ),
+                        * luminance(intensity);
+                    (
+                        LightEntry::Spot {
+                            position,
+                            axis,
+                            intensity,
+                            inner: inner_cone_angle,
+                            outer: outer_cone_angle,
+                            range: light.range,
+                        },
+                        power,
+                        Some(LightBounds::spot(position, axis, outer_cone_angle, power)),
+                    )
+                }
                 LightKind::Directional => (
                     LightEntry::Directional {
                         travel: axis,
                         illuminance: intensity,
                     },
                     PI * radius * radius * luminance(intensity),
+                    None,
                 ),
             };
             if power > 0.0 && power.is_finite() {
                 lights.push(entry);
                 powers.push(power);
+                extents.push(extent);
             }
         }
         let mut environment = None;
@@ -150,33 +225,116 @@ impl LightTable {
             environment = Some(lights.len());
             lights.push(LightEntry::Environment);
             powers.push(env_power);
+            extents.push(None);
         }
+        let mut tree_index = HashMap::new();
+        let selection = match sampling {
+            LightSampling::Power => {
+                Distribution1D::new(&powers).map_or(Selection::None, Selection::Power)
+            }
+            LightSampling::Tree => {
+                let (mut finite, mut bounds, mut infinite, mut infinite_powers) =
+                    (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+                for (i, extent) in extents.iter().enumerate() {
+                    match extent {
+                        Some(b) => {
+                            tree_index.insert(i, finite.len());
+                            finite.push(i);
+                            bounds.push(*b);
+                        }
+                        None => {
+                            infinite.push(i);
+                            infinite_powers.push(powers[i]);
+                        }
+                    }
+                }
+                let finite_power: f32 = bounds.iter().map(|b| b.power).sum();
+                let infinite_power: f32 = infinite_powers.iter().sum();
+                let infinite = Distribution1D::new(&infinite_powers).map(|d| (d, infinite));
+                let tree = LightTree::build(&bounds);
+                match (&tree, &infinite) {
+                    (None, None) => Selection::None,
+                    _ => Selection::Tree {
+                        infinite_share: match (&tree, &infinite) {
+                            (None, _) => 1.0,
+                            (_, None) => 0.0,
+                            _ => infinite_power / (infinite_power + finite_power),
+                        },
+                        tree,
+                        finite,
+                        infinite,
+                    },
+                }
+            }
+        };
         Self {
-            selection: Distribution1D::new(&powers),
+            selection,
             lights,
             triangles,
+            tree_index,
             environment,
         }
     }
 
-    /// Picks a light: its index and the probability it was picked.
-    pub fn pick(&self, u: f32) -> Option<(usize, f32)> {
-        self.selection.as_ref().map(|d| d.sample(u))
-    }
-
-    /// Probability of picking the emissive triangle `triangle` of instance `instance`.
-    pub fn triangle_pmf(&self, instance: u32, triangle: u32) -> f32 {
-        match (&self.selection, self.triangles.get(&(instance, triangle))) {
-            (Some(d), Some(&i)) => d.pmf(i),
-            _ => 0.0,
+    /// Picks a light for shading point `p` with normal `n` (zero: no surface to weigh by): its
+    /// index and the probability it was picked.
+    pub fn pick(&self, u: f32, p: Vec3, n: Vec3) -> Option<(usize, f32)> {
+        match &self.selection {
+            Selection::None => None,
+            Selection::Power(d) => Some(d.sample(u)),
+            Selection::Tree {
+                tree,
+                finite,
+                infinite,
+                infinite_share,
+            } => {
+                if u < *infinite_share {
+                    let (d, indices) = infinite.as_ref()?;
+                    let u = (u / infinite_share).min(1.0 - f32::EPSILON / 2.0);
+                    let (i, pmf) = d.sample(u);
+                    Some((indices[i], infinite_share * pmf))
+                } else {
+                    let u = ((u - infinite_share) / (1.0 - infinite_share))
+                        .clamp(0.0, 1.0 - f32::EPSILON / 2.0);
+                    let (i, pmf) = tree.as_ref()?.pick(p, n, u);
+                    Some((finite[i], (1.0 - infinite_share) * pmf))
+                }
+            }
         }
     }
 
-    /// Probability of picking the environment.
+    /// Probability that [`LightTable::pick`] at `p`, `n` returns table entry `index`.
+    fn pmf(&self, index: usize, p: Vec3, n: Vec3) -> f32 {
+        match &self.selection {
+            Selection::None => 0.0,
+            Selection::Power(d) => d.pmf(index),
+            Selection::Tree {
+                tree,
+                infinite,
+                infinite_share,
+                ..
+            } => match (self.tree_index.get(&index), tree, infinite) {
+                (Some(&i), Some(tree), _) => (1.0 - infinite_share) * tree.pmf(i, p, n),
+                (None, _, Some((d, indices))) => indices
+                    .iter()
+                    .position(|&j| j == index)
+                    .map_or(0.0, |k| infinite_share * d.pmf(k)),
+                _ => 0.0,
+            },
+        }
+    }
+
+    /// Probability of picking the emissive triangle `triangle` of instance `instance` from
+    /// shading point `p` with normal `n`.
+    pub fn triangle_pmf(&self, instance: u32, triangle: u32, p: Vec3, n: Vec3) -> f32 {
+        self.triangles
+            .get(&(instance, triangle))
+            .map_or(0.0, |&i| self.pmf(i, p, n))
+    }
+
+    /// Probability of picking the environment (the same from every point).
     pub fn environment_pmf(&self) -> f32 {
-        match (&self.selection, self.environment) {
-            (Some(d), Some(i)) => d.pmf(i),
-            _ => 0.0,
-        }
+        self.environment
+            .map_or(0.0, |i| self.pmf(i, Vec3::ZERO, Vec3::ZERO))
     }
 }

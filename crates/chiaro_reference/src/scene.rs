@@ -2,16 +2,17 @@
 //! light table, the environment and the camera.
 
 use bevy_ecs::prelude::*;
-use chiaro_bvh::SceneBvh;
+use chiaro_bvh::{Hit, Ray, SceneBvh};
 use chiaro_scene::{
-    ActiveCamera, Camera, Environment, EnvironmentSource, GlobalTransform, Material, Materials,
-    Meshes, Textures,
+    ActiveCamera, AlphaMode, Camera, Environment, EnvironmentSource, GlobalTransform, Material,
+    Materials, Meshes, Textures,
 };
 use chiaro_shading::lights::EnvironmentLight;
 
 use crate::camera::CameraRays;
 use crate::error::ReferenceError;
-use crate::light_table::LightTable;
+use crate::light_table::{LightSampling, LightTable};
+use crate::surface::alpha_passes;
 
 /// A scene ready to be path traced; borrows the World's assets.
 pub struct RenderScene<'w> {
@@ -31,6 +32,9 @@ pub struct RenderScene<'w> {
     pub environment: EnvironmentLight,
     /// The camera.
     pub camera: CameraRays,
+    /// True when some material is alpha-masked: only then do ray queries test candidates'
+    /// alpha (an opaque scene takes the unfiltered traversal, without a callback per hit).
+    pub has_alpha_masks: bool,
 }
 
 /// The environment resource as a light (black when absent).
@@ -50,14 +54,14 @@ fn environment_light(world: &World) -> EnvironmentLight {
     }
 }
 
-/// Builds the BVH and light table of `world` (propagating transforms first). Call
-/// [`RenderScene::new`] with the result.
-pub fn prepare(world: &mut World) -> (SceneBvh, LightTable) {
+/// Builds the BVH and light table of `world` (propagating transforms first), the lights picked
+/// by `sampling`. Call [`RenderScene::new`] with the result.
+pub fn prepare(world: &mut World, sampling: LightSampling) -> (SceneBvh, LightTable) {
     let bvh = SceneBvh::build(world);
     let mean = world
         .get_resource::<Environment>()
         .map_or(glam::Vec3::ZERO, Environment::mean_radiance);
-    let lights = LightTable::gather(world, &bvh, mean);
+    let lights = LightTable::gather(world, &bvh, mean, sampling);
     (bvh, lights)
 }
 
@@ -96,6 +100,27 @@ impl<'w> RenderScene<'w> {
             lights,
             environment: environment_light(world),
             camera: CameraRays::new(camera, global, width, height),
+            has_alpha_masks: materials
+                .iter()
+                .any(|(_, m)| matches!(m.alpha_mode, AlphaMode::Mask { .. })),
         })
+    }
+
+    /// The nearest surface along `ray`, alpha-masked texels skipped.
+    pub fn closest_hit(&self, ray: &Ray) -> Option<Hit> {
+        if self.has_alpha_masks {
+            self.bvh.closest_hit_with(ray, &|h| alpha_passes(self, h))
+        } else {
+            self.bvh.closest_hit(ray)
+        }
+    }
+
+    /// True when something opaque blocks `ray` (alpha-masked texels let it through).
+    pub fn occluded(&self, ray: &Ray) -> bool {
+        if self.has_alpha_masks {
+            self.bvh.any_hit_with(ray, &|h| alpha_passes(self, h))
+        } else {
+            self.bvh.any_hit(ray)
+        }
     }
 }

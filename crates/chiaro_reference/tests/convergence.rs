@@ -3,7 +3,7 @@
 //! depend on the thread count.
 
 use bevy_ecs::world::World;
-use chiaro_reference::{PathSettings, RenderOutput, RenderSettings, render_world};
+use chiaro_reference::{LightSampling, PathSettings, RenderOutput, RenderSettings, render_world};
 use chiaro_scene::builtin::shapes::floor;
 use chiaro_scene::{
     Camera, Light, LightKind, Material, Node, Projection, SceneBuilder, Transform, load_scene,
@@ -155,7 +155,7 @@ fn russian_roulette_leaves_the_mean_unchanged() {
     let path = |rr| PathSettings {
         max_depth: 12,
         russian_roulette_from: rr,
-        direct_only: false,
+        ..PathSettings::default()
     };
     let settings = |rr| RenderSettings {
         width: 16,
@@ -171,6 +171,37 @@ fn russian_roulette_leaves_the_mean_unchanged() {
     assert!(
         (a - b).abs() < 4.0 * se,
         "with RR {a}, without {b}, standard error {se}"
+    );
+}
+
+/// Picking lights through the tree or by power changes the noise, not the mean; and on many
+/// lights the tree's noise is lower.
+#[test]
+fn light_tree_and_power_sampling_agree_and_the_tree_is_less_noisy() {
+    let settings = |light_sampling| RenderSettings {
+        width: 24,
+        height: 24,
+        spp: 64,
+        path: PathSettings {
+            max_depth: 3,
+            light_sampling,
+            ..PathSettings::default()
+        },
+        ..RenderSettings::default()
+    };
+    let scene = "builtin:many-lights?quads=16&lights=16";
+    let tree = render(scene, settings(LightSampling::Tree));
+    let power = render(scene, settings(LightSampling::Power));
+    let (a, b) = (mean(&tree.image), mean(&power.image));
+    let se = (standard_error(&tree).powi(2) + standard_error(&power).powi(2)).sqrt();
+    assert!(
+        (a - b).abs() < 4.0 * se,
+        "tree {a}, power {b}, standard error {se}"
+    );
+    let (noise_tree, noise_power) = (tree.halves_rel_mse(), power.halves_rel_mse());
+    assert!(
+        noise_tree < 0.5 * noise_power,
+        "halves' relMSE: tree {noise_tree}, power {noise_power}"
     );
 }
 

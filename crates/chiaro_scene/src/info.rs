@@ -12,6 +12,7 @@ use crate::bounds::Aabb;
 use crate::components::{ActiveCamera, Camera, Light, LightKind, MeshInstance, Projection};
 use crate::environment::{Environment, EnvironmentSource};
 use crate::error::{ImportReport, Repair};
+use crate::features::SceneFeatures;
 use crate::material::Materials;
 use crate::mesh::Meshes;
 use crate::scene_builder::AutoCamera;
@@ -71,6 +72,8 @@ pub struct SceneInfo {
     pub environment: String,
     /// World bounds of every instance.
     pub bounds: Aabb,
+    /// The features the scene uses (what a renderer specialises for).
+    pub features: SceneFeatures,
     /// What loading repaired, with the source of each repair.
     pub repairs: Vec<(String, Repair)>,
 }
@@ -157,6 +160,20 @@ impl SceneInfo {
                 )
             }
         };
+        let features = {
+            let instances: Vec<MeshInstance> = world
+                .query::<&MeshInstance>()
+                .iter(world)
+                .copied()
+                .collect();
+            let lights: Vec<Light> = world.query::<&Light>().iter(world).copied().collect();
+            SceneFeatures::gather(
+                &instances,
+                &lights,
+                world.resource::<Materials>(),
+                world.get_resource::<Environment>(),
+            )
+        };
         let repairs = world
             .get_resource::<ImportReport>()
             .map(|r| {
@@ -178,6 +195,7 @@ impl SceneInfo {
             camera,
             environment,
             bounds,
+            features,
             repairs,
         }
     }
@@ -249,6 +267,12 @@ impl fmt::Display for SceneInfo {
                 "bounds: ({}, {}, {}) to ({}, {}, {})",
                 lo.x, lo.y, lo.z, hi.x, hi.y, hi.z
             )?;
+        }
+        let features = self.features.in_use();
+        if features.is_empty() {
+            writeln!(f, "features: none")?;
+        } else {
+            writeln!(f, "features: {}", features.join(", "))?;
         }
         writeln!(f, "repairs: {}", self.repairs.len())?;
         for (source, r) in &self.repairs {

@@ -30,6 +30,7 @@ pub mod builtin;
 pub mod components;
 pub mod environment;
 pub mod error;
+pub mod features;
 pub mod framing;
 mod gltf;
 pub mod info;
@@ -48,6 +49,7 @@ pub use bounds::Aabb;
 pub use components::{ActiveCamera, Camera, Light, LightKind, MeshInstance, Projection};
 pub use environment::{Environment, EnvironmentSource, EquirectImage};
 pub use error::{Fault, ImportReport, Repair, SceneError};
+pub use features::{EnvironmentFeature, SceneFeatureStats, SceneFeatures, update_scene_features};
 pub use gltf::{
     MAX_FILE_BYTES, MAX_TEXTURE_SIDE, MAX_ZERO_FILLED_ELEMENTS, MIN_SCALE, SUPPORTED_EXTENSIONS,
     load_gltf,

@@ -12,6 +12,7 @@
 //! - [`ggx`]: the GGX microfacet distribution, Smith masking-shadowing, visible-normal sampling.
 //! - [`brdf`]: the glTF metallic-roughness BRDF: `eval`, `pdf`, `sample`.
 //! - [`lights`]: point, spot, directional, triangle and environment lights: sampling and pdfs.
+//! - [`light_tree`]: a light tree choosing among many lights by their importance to a point.
 //! - [`tonemap`]: ACES (fitted), Khronos PBR Neutral, clamp.
 //!
 //! Conventions: directions are unit vectors pointing away from the surface; BRDF functions work in
@@ -56,6 +57,7 @@ pub mod color;
 pub mod distribution;
 pub mod frame;
 pub mod ggx;
+pub mod light_tree;
 pub mod lights;
 pub mod rng;
 pub mod sampling;

@@ -93,6 +93,27 @@ fn check_attribute_references(root: &gltf::json::Root) -> Result<(), String> {
     Ok(())
 }
 
+/// Every image has exactly one source, a URI or a buffer view, and one stored in a buffer view
+/// names its MIME type, as the specification requires (the gltf crate's validation lets these
+/// pass, then unwraps them when the image's source is read).
+fn check_image_sources(root: &gltf::json::Root) -> Result<(), String> {
+    for (i, image) in root.images.iter().enumerate() {
+        match (&image.uri, image.buffer_view, &image.mime_type) {
+            (Some(_), None, _) | (None, Some(_), Some(_)) => {}
+            (None, Some(_), None) => {
+                return Err(format!(
+                    "image {i} is stored in a buffer view but has no mimeType"
+                ));
+            }
+            (Some(_), Some(_), _) => {
+                return Err(format!("image {i} has both a uri and a bufferView"));
+            }
+            (None, None, _) => return Err(format!("image {i} has neither a uri nor a bufferView")),
+        }
+    }
+    Ok(())
+}
+
 /// Parses and validates a .gltf or .glb file's bytes: the document and the GLB binary chunk.
 pub(crate) fn parse(bytes: &[u8]) -> Result<(gltf::Document, Option<Vec<u8>>), String> {
     if bytes.starts_with(GLB_MAGIC) {
@@ -114,6 +135,7 @@ pub(crate) fn parse(bytes: &[u8]) -> Result<(gltf::Document, Option<Vec<u8>>), S
     root.extensions_required
         .retain(|e| gltf::json::extensions::ENABLED_EXTENSIONS.contains(&e.as_str()));
     check_attribute_references(&root)?;
+    check_image_sources(&root)?;
     let document = gltf::Document::from_json(root).map_err(|e| e.to_string())?;
     Ok((document, unchecked.blob))
 }
@@ -177,5 +199,32 @@ mod tests {
         let mut short_header = glb(&[(CHUNK_JSON, &json)], 0);
         short_header[8..12].copy_from_slice(&4u32.to_le_bytes());
         assert!(parse(&short_header).is_err());
+    }
+
+    #[test]
+    fn images_without_a_usable_source_are_refused() {
+        let with_images = |images: &str| {
+            format!(
+                r#"{{"asset":{{"version":"2.0"}},"buffers":[{{"byteLength":4,"uri":"data:application/octet-stream;base64,AAAAAA=="}}],"bufferViews":[{{"buffer":0,"byteLength":4}}],"images":[{images}]}}"#
+            )
+        };
+        let refused = |images: &str| {
+            parse(with_images(images).as_bytes())
+                .err()
+                .unwrap_or_else(|| panic!("{images} should be refused"))
+        };
+        assert!(
+            refused(r#"{"bufferView":0}"#)
+                .contains("image 0 is stored in a buffer view but has no mimeType")
+        );
+        assert!(refused(r#"{"name":"nothing"}"#).contains("neither a uri nor a bufferView"));
+        assert!(
+            refused(r#"{"uri":"a.png","bufferView":0,"mimeType":"image/png"}"#)
+                .contains("both a uri and a bufferView")
+        );
+        assert!(
+            parse(with_images(r#"{"bufferView":0,"mimeType":"image/png"}"#).as_bytes()).is_ok()
+        );
+        assert!(parse(with_images(r#"{"uri":"a.png"}"#).as_bytes()).is_ok());
     }
 }
