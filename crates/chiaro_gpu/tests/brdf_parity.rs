@@ -32,7 +32,7 @@ use chiaro_shading::brdf::{self, MIRROR_ALPHA, SurfaceParams};
 use chiaro_shading::rng::Pcg32;
 use chiaro_shading::sampling::uniform_sphere;
 use glam::{Vec2, Vec3};
-use kernel::{Input, Kernel, Output};
+use kernel::Kernel;
 
 /// Inputs in the test.
 const INPUTS: usize = 1_000_000;
@@ -468,23 +468,9 @@ fn wgsl_brdf_matches_chiaro_shading_on_a_million_inputs() {
         let n = BATCH.min(INPUTS - done);
         let inputs: Vec<BrdfInput> = (0..n).map(|_| random_input(&mut rng)).collect();
         let t = Instant::now();
-        let bytes = kernel.run(
-            &gpu,
-            &[Input {
-                group: 0,
-                binding: 0,
-                data: bytemuck::cast_slice(&inputs),
-            }],
-            &Output {
-                group: 0,
-                binding: 1,
-                size: (n * size_of::<BrdfOutput>()) as u64,
-            },
-            n as u32,
-        );
+        let outputs: Vec<BrdfOutput> = kernel.map(&gpu, &inputs);
         gpu_time += t.elapsed().as_secs_f64();
-        let outputs: &[BrdfOutput] = bytemuck::cast_slice(&bytes);
-        for (x, g) in inputs.iter().zip(outputs) {
+        for (x, g) in inputs.iter().zip(&outputs) {
             if let Err(e) = check(x, g, &mut worst) {
                 if failures.len() < 20 {
                     eprintln!("{e}");

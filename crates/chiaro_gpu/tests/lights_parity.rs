@@ -25,7 +25,7 @@ use chiaro_shading::lights::{
 use chiaro_shading::rng::Pcg32;
 use chiaro_shading::sampling::uniform_sphere;
 use glam::{Vec2, Vec3};
-use kernel::{Input, Kernel, Output};
+use kernel::Kernel;
 
 const INPUTS: usize = 200_000;
 /// Relative bound on every compared value.
@@ -402,25 +402,11 @@ fn wgsl_lights_match_chiaro_shading() {
     let mut rng = Pcg32::new(0x1165, 3);
     let inputs: Vec<LightInput> = (0..INPUTS).map(|_| random_input(&mut rng)).collect();
     let kernel = Kernel::new(&gpu, "lights parity", KERNEL);
-    let bytes = kernel.run(
-        &gpu,
-        &[Input {
-            group: 0,
-            binding: 0,
-            data: bytemuck::cast_slice(&inputs),
-        }],
-        &Output {
-            group: 0,
-            binding: 1,
-            size: (INPUTS * size_of::<LightOutput>()) as u64,
-        },
-        INPUTS as u32,
-    );
-    let outputs: &[LightOutput] = bytemuck::cast_slice(&bytes);
+    let outputs: Vec<LightOutput> = kernel.map(&gpu, &inputs);
     let mut mismatches = 0;
     let mut failures = 0;
     let mut sampled = [0usize; 4];
-    for (x, g) in inputs.iter().zip(outputs) {
+    for (x, g) in inputs.iter().zip(&outputs) {
         for (k, s) in sampled.iter_mut().enumerate() {
             *s += usize::from(g.flags >> (2 * k) & 1 != 0);
         }

@@ -25,7 +25,7 @@ use chiaro_shading::sampling::{
     uniform_sphere, uniform_triangle,
 };
 use glam::{Vec2, Vec3};
-use kernel::{Input, Kernel, Output};
+use kernel::Kernel;
 
 const INPUTS: usize = 200_000;
 /// Absolute bound on components of unit vectors and disk points.
@@ -209,23 +209,9 @@ fn frame_sampling_color_and_offset_match_the_cpu() {
     let mut rng = Pcg32::new(0x5a3, 1);
     let inputs: Vec<SamplingInput> = (0..INPUTS).map(|_| random_input(&mut rng)).collect();
     let kernel = Kernel::new(&gpu, "sampling parity", KERNEL);
-    let bytes = kernel.run(
-        &gpu,
-        &[Input {
-            group: 0,
-            binding: 0,
-            data: bytemuck::cast_slice(&inputs),
-        }],
-        &Output {
-            group: 0,
-            binding: 1,
-            size: (INPUTS * size_of::<SamplingOutput>()) as u64,
-        },
-        INPUTS as u32,
-    );
-    let outputs: &[SamplingOutput] = bytemuck::cast_slice(&bytes);
+    let outputs: Vec<SamplingOutput> = kernel.map(&gpu, &inputs);
     let (mut worst_abs, mut worst_rel, mut worst_ulps) = (0.0f32, 0.0f32, 0u32);
-    for (x, g) in inputs.iter().zip(outputs) {
+    for (x, g) in inputs.iter().zip(&outputs) {
         let n = Vec3::from_array(x.normal);
         let v = Vec3::from_array(x.v);
         let u = Vec2::from_array(x.u);

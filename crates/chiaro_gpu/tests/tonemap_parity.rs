@@ -12,7 +12,7 @@ use chiaro_shading::color::linear_to_srgb;
 use chiaro_shading::rng::Pcg32;
 use chiaro_shading::tonemap::Tonemapper;
 use glam::Vec3;
-use kernel::{Input, Kernel, Output};
+use kernel::Kernel;
 
 const INPUTS: usize = 200_000;
 /// Absolute bound on display values in [0, 1] (an 8-bit step is 3.9e-3).
@@ -100,23 +100,9 @@ fn wgsl_tonemappers_match_chiaro_shading() {
     let mut rng = Pcg32::new(0x70e, 5);
     let inputs: Vec<ToneInput> = (0..INPUTS).map(|_| random_input(&mut rng)).collect();
     let kernel = Kernel::new(&gpu, "tonemap parity", KERNEL);
-    let bytes = kernel.run(
-        &gpu,
-        &[Input {
-            group: 0,
-            binding: 0,
-            data: bytemuck::cast_slice(&inputs),
-        }],
-        &Output {
-            group: 0,
-            binding: 1,
-            size: (INPUTS * size_of::<ToneOutput>()) as u64,
-        },
-        INPUTS as u32,
-    );
-    let outputs: &[ToneOutput] = bytemuck::cast_slice(&bytes);
+    let outputs: Vec<ToneOutput> = kernel.map(&gpu, &inputs);
     let mut worst = [0.0f32; 4];
-    for (x, g) in inputs.iter().zip(outputs) {
+    for (x, g) in inputs.iter().zip(&outputs) {
         let linear = Vec3::from_array(x.linear);
         for (k, t) in [
             Tonemapper::AcesFitted,

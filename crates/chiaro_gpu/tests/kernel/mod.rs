@@ -86,6 +86,28 @@ impl Kernel {
         }
     }
 
+    /// Runs one invocation per element of `inputs` (bound read-only at group 0, binding 0) and
+    /// returns as many `O` read back from the output at group 0, binding 1.
+    #[allow(dead_code, reason = "the kernels with several buffers use `run`")]
+    pub fn map<I: bytemuck::Pod, O: bytemuck::Pod>(
+        &self,
+        gpu: &GpuContext,
+        inputs: &[I],
+    ) -> Vec<O> {
+        let input = Input {
+            group: 0,
+            binding: 0,
+            data: bytemuck::cast_slice(inputs),
+        };
+        let output = Output {
+            group: 0,
+            binding: 1,
+            size: (inputs.len() * size_of::<O>()) as u64,
+        };
+        let bytes = self.run(gpu, &[input], &output, inputs.len() as u32);
+        bytemuck::pod_collect_to_vec(&bytes[..inputs.len() * size_of::<O>()])
+    }
+
     /// Runs `items` invocations with `inputs` bound read-only and `output` read-write, and
     /// returns the output buffer's bytes.
     pub fn run(&self, gpu: &GpuContext, inputs: &[Input], output: &Output, items: u32) -> Vec<u8> {
