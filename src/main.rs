@@ -51,8 +51,6 @@ enum Command {
         #[command(flatten)]
         scene: SceneArgs,
     },
-    /// Render the converged ground truth with the CPU reference path tracer: an EXR (linear) and
-    /// a PNG (tonemapped) beside it, plus the EXR of an independent half of the samples.
     /// Render on the GPU (any adapter wgpu finds, lavapipe included), accumulating frames:
     /// a PNG (tonemapped) or an EXR (linear HDR).
     Render {
@@ -81,6 +79,8 @@ enum Command {
         #[arg(long, default_value_t = 0)]
         seed: u64,
     },
+    /// Render the converged ground truth with the CPU reference path tracer: an EXR (linear) and
+    /// a PNG (tonemapped) beside it, plus the EXR of an independent half of the samples.
     Reference {
         #[command(flatten)]
         scene: SceneArgs,
