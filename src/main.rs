@@ -1,5 +1,6 @@
 //! The `chiaro` command line.
 
+mod bench;
 mod compare;
 
 use std::path::{Path, PathBuf};
@@ -114,6 +115,10 @@ enum Command {
     /// Measure an image against a reference: relMSE (linear HDR, epsilon 0.01) and SMAPE, then
     /// PSNR (dB) and mean LDR-FLIP of the tonemapped 8-bit images; one `name value` per line.
     Compare(compare::CompareArgs),
+    /// Speed against error: each GPU configuration on each scene against the converged CPU
+    /// reference (cached), error after 1, 4, 16 and 64 frames, frame and pass times; writes
+    /// results.json, results.md and an error-against-time plot per scene.
+    Bench(bench::BenchArgs),
 }
 
 /// What `chiaro render` computes per frame.
@@ -159,6 +164,7 @@ fn main() -> Result<()> {
             render(&scene, size, frames, &out, mode, seed)
         }
         Command::Compare(args) => compare::run(&args),
+        Command::Bench(args) => bench::run(&args),
         Command::Reference {
             scene,
             spp,

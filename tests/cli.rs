@@ -1,14 +1,9 @@
 //! The `chiaro` binary end to end: `info` and `reference` on built-in scenes, and a clear error
 //! with a non-zero exit on bad input.
 
-use std::process::Command;
+mod common;
 
-fn chiaro(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_chiaro"))
-        .args(args)
-        .output()
-        .expect("the chiaro binary runs")
-}
+use common::chiaro;
 
 #[test]
 fn info_prints_the_scene_summary() {

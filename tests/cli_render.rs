@@ -2,27 +2,9 @@
 //! message when this machine has no GPU adapter, unless CI is set), and a clear error for a
 //! bad output name.
 
-use std::process::Command;
+mod common;
 
-fn chiaro(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_chiaro"))
-        .args(args)
-        .output()
-        .expect("the chiaro binary runs")
-}
-
-fn gpu_missing(out: &std::process::Output) -> bool {
-    let text = String::from_utf8_lossy(&out.stderr);
-    let missing = !out.status.success() && text.contains("no GPU adapter found");
-    if missing {
-        assert!(
-            std::env::var_os("CI").is_none(),
-            "CI has no GPU adapter: {text}"
-        );
-        eprintln!("skipped: {text}");
-    }
-    missing
-}
+use common::{chiaro, gpu_missing};
 
 #[test]
 fn render_writes_png_and_exr() {

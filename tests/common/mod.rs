@@ -28,3 +28,26 @@ pub fn gltf_json(bytes: &[u8]) -> serde_json::Value {
         serde_json::from_slice(bytes).unwrap()
     }
 }
+
+/// Runs the chiaro binary with `args`.
+pub fn chiaro(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_chiaro"))
+        .args(args)
+        .output()
+        .expect("the chiaro binary runs")
+}
+
+/// True (with a message) when the command failed for want of a GPU adapter; with `CI` set
+/// that is a failure instead.
+pub fn gpu_missing(out: &std::process::Output) -> bool {
+    let text = String::from_utf8_lossy(&out.stderr);
+    let missing = !out.status.success() && text.contains("no GPU adapter found");
+    if missing {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "CI has no GPU adapter: {text}"
+        );
+        eprintln!("skipped: {text}");
+    }
+    missing
+}

@@ -1,6 +1,7 @@
 //! chiaro's image metrics: how far an image is from a reference, by relMSE and SMAPE on linear
 //! HDR and by PSNR and FLIP on what a viewer sees, plus a per-pixel error heatmap. The measures
-//! and their parameters are documented in [`metrics`].
+//! and their parameters are documented in [`metrics`]. [`bench`] weighs the GPU frame's
+//! configurations by speed against error.
 //!
 //! ```
 //! use chiaro_eval::{CompareSettings, HdrImage, compare};
@@ -14,6 +15,7 @@
 
 #![warn(missing_docs)]
 
+pub mod bench;
 mod error;
 mod hdr_image;
 mod heatmap;

@@ -1,0 +1,369 @@
+//! `chiaro bench`: speed against error. For each scene, the converged CPU reference (cached on
+//! disk), then each GPU configuration from a fresh start on a static camera: the wall time of
+//! every frame and the median time of each pass, and relMSE and mean LDR-FLIP against the
+//! reference after each checkpoint's frame count. Results go to `results.json`, `results.md`
+//! and one error-against-time plot per scene (see [`write_outputs`]).
+
+mod plot;
+mod reference_cache;
+pub mod results;
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use bevy_ecs::world::World;
+use chiaro_gpu::{RenderError, RenderSettings, Renderer};
+use chiaro_scene::{Environment, load_scene};
+use thiserror::Error;
+
+use crate::{CompareSettings, EvalError, HdrImage, compare};
+pub use reference_cache::{Reference, converged_reference};
+use results::{BenchResults, Checkpoint, RunResult, SceneResult};
+
+/// Why a benchmark stopped.
+#[derive(Debug, Error)]
+pub enum BenchError {
+    /// A scene did not load.
+    #[error("{scene}: {message}")]
+    Scene {
+        /// The scene.
+        scene: String,
+        /// What failed.
+        message: String,
+    },
+    /// The CPU reference failed.
+    #[error(transparent)]
+    Reference(#[from] chiaro_reference::ReferenceError),
+    /// The GPU renderer failed.
+    #[error(transparent)]
+    Render(#[from] RenderError),
+    /// A comparison failed.
+    #[error(transparent)]
+    Eval(#[from] EvalError),
+    /// A file could not be written.
+    #[error("{path}: {message}")]
+    Io {
+        /// The file or folder.
+        path: String,
+        /// What failed.
+        message: String,
+    },
+    /// A plot could not be drawn.
+    #[error("plot: {0}")]
+    Plot(String),
+    /// A setting out of its range.
+    #[error("{0}")]
+    Settings(String),
+}
+
+impl BenchError {
+    fn io(path: &Path, error: &std::io::Error) -> Self {
+        Self::Io {
+            path: path.display().to_string(),
+            message: error.to_string(),
+        }
+    }
+}
+
+/// A scene to benchmark: a built-in scene or a glTF file, optionally under an environment
+/// image.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct BenchScene {
+    /// A .gltf or .glb path, or builtin:NAME.
+    pub scene: String,
+    /// An equirectangular .hdr or .exr environment replacing the scene's.
+    pub env: Option<PathBuf>,
+}
+
+impl BenchScene {
+    /// `scene` with its own environment.
+    pub fn builtin(scene: &str) -> Self {
+        Self {
+            scene: scene.to_owned(),
+            env: None,
+        }
+    }
+
+    /// The scene's name, with the environment file's when it has one.
+    pub fn label(&self) -> String {
+        match &self.env {
+            Some(env) => format!(
+                "{} under {}",
+                self.scene,
+                env.file_name().unwrap_or_default().to_string_lossy()
+            ),
+            None => self.scene.clone(),
+        }
+    }
+
+    /// A World holding the scene.
+    pub fn load(&self) -> Result<World, BenchError> {
+        let fault = |message: String| BenchError::Scene {
+            scene: self.label(),
+            message,
+        };
+        let mut world = World::new();
+        load_scene(&mut world, &self.scene).map_err(|e| fault(e.to_string()))?;
+        if let Some(path) = &self.env {
+            let (environment, _) =
+                Environment::from_file(path, 1.0).map_err(|e| fault(e.to_string()))?;
+            world.insert_resource(environment);
+        }
+        Ok(world)
+    }
+}
+
+/// The default scenes: the built-in set, and each model of `shared_scenes` (when that folder
+/// exists) under the first `.hdr` environment found there.
+pub fn default_scenes(shared_scenes: &Path) -> Vec<BenchScene> {
+    let mut scenes: Vec<BenchScene> = [
+        "builtin:cornell",
+        "builtin:hard-cases",
+        "builtin:instances",
+        "builtin:many-lights",
+    ]
+    .map(BenchScene::builtin)
+    .to_vec();
+    let Ok(entries) = fs::read_dir(shared_scenes) else {
+        return scenes;
+    };
+    let mut files: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
+    files.sort();
+    let has = |p: &PathBuf, ext: &str| p.extension().is_some_and(|e| e == ext);
+    let env = files.iter().find(|p| has(p, "hdr")).cloned();
+    scenes.extend(
+        files
+            .iter()
+            .filter(|p| has(p, "glb") || has(p, "gltf"))
+            .map(|p| BenchScene {
+                scene: p.display().to_string(),
+                env: env.clone(),
+            }),
+    );
+    scenes
+}
+
+/// One GPU configuration to measure.
+#[derive(Clone, Debug)]
+pub struct BenchConfig {
+    /// Its name in the tables and plots.
+    pub name: String,
+    /// How it renders (size and frame count are the benchmark's).
+    pub settings: RenderSettings,
+}
+
+/// The configurations measured by default.
+pub fn default_configs() -> Vec<BenchConfig> {
+    vec![BenchConfig {
+        name: "direct".into(),
+        settings: RenderSettings::default(),
+    }]
+}
+
+/// How the benchmark runs.
+#[derive(Clone, Debug)]
+pub struct BenchSettings {
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Frame counts after which the error is measured, increasing; the last is how many
+    /// frames each configuration renders.
+    pub checkpoints: Vec<u32>,
+    /// Samples per pixel of the converged reference.
+    pub reference_spp: u32,
+    /// Where the references are cached.
+    pub cache_dir: PathBuf,
+    /// Frames rendered and thrown away before timing (pipelines and caches warm).
+    pub warmup_frames: u32,
+}
+
+/// What the benchmark is doing, for a progress display.
+#[derive(Clone, Debug)]
+pub enum BenchProgress {
+    /// Rendering or reading the reference of a scene.
+    Reference(String),
+    /// Running a configuration on a scene.
+    Run {
+        /// The scene.
+        scene: String,
+        /// The configuration.
+        config: String,
+    },
+}
+
+fn median(values: &mut [f64]) -> f64 {
+    values.sort_by(f64::total_cmp);
+    values.get(values.len() / 2).copied().unwrap_or(0.0)
+}
+
+/// Runs `config` on `world` and measures it against `reference`.
+fn measure(
+    renderer: &mut Renderer,
+    world: &mut World,
+    config: &BenchConfig,
+    settings: &BenchSettings,
+    reference: &HdrImage,
+) -> Result<RunResult, BenchError> {
+    let render = RenderSettings {
+        width: settings.width,
+        height: settings.height,
+        ..config.settings
+    };
+    if settings.warmup_frames > 0 {
+        renderer.render(
+            world,
+            &RenderSettings {
+                frames: settings.warmup_frames,
+                seed: render.seed ^ 0x77a2,
+                ..render
+            },
+        )?;
+    }
+    let compare_settings = CompareSettings::default();
+    let mut frame_ms = Vec::new();
+    let mut pass_ms: Vec<(String, Vec<f64>)> = Vec::new();
+    let mut gpu_timestamps = false;
+    let mut checkpoints = Vec::new();
+    let mut seconds = 0.0;
+    let last = settings.checkpoints.last().copied().unwrap_or(1);
+    for frame in 1..=last {
+        let start = Instant::now();
+        let times = if frame == 1 {
+            renderer
+                .render(
+                    world,
+                    &RenderSettings {
+                        frames: 1,
+                        ..render
+                    },
+                )?
+                .times
+        } else {
+            renderer.accumulate(world, &render, 1)?
+        };
+        let elapsed = start.elapsed().as_secs_f64();
+        seconds += elapsed;
+        frame_ms.push(elapsed * 1e3);
+        for t in &times {
+            gpu_timestamps = t.gpu_timestamps;
+            for (i, (name, ms)) in t.passes.iter().enumerate() {
+                match pass_ms.get_mut(i) {
+                    Some((_, all)) => all.push(*ms),
+                    None => pass_ms.push(((*name).to_owned(), vec![*ms])),
+                }
+            }
+        }
+        if settings.checkpoints.contains(&frame) {
+            let output = renderer.read(&render)?;
+            let image = HdrImage::new(&config.name, output.width, output.height, output.hdr)?;
+            let metrics = compare(&image, reference, &compare_settings)?.metrics;
+            checkpoints.push(Checkpoint {
+                frames: frame,
+                seconds,
+                rel_mse: metrics.rel_mse,
+                flip_mean: metrics.flip_mean,
+            });
+        }
+    }
+    Ok(RunResult {
+        config: config.name.clone(),
+        median_frame_ms: median(&mut frame_ms),
+        pass_ms: pass_ms
+            .into_iter()
+            .map(|(name, mut all)| (name, median(&mut all)))
+            .collect(),
+        gpu_timestamps,
+        checkpoints,
+    })
+}
+
+/// Runs every configuration on every scene; `progress` hears of each step before it starts.
+pub fn run_bench(
+    renderer: &mut Renderer,
+    scenes: &[BenchScene],
+    configs: &[BenchConfig],
+    settings: &BenchSettings,
+    progress: &mut dyn FnMut(BenchProgress),
+) -> Result<BenchResults, BenchError> {
+    if settings.checkpoints.is_empty() || !settings.checkpoints.is_sorted() {
+        return Err(BenchError::Settings(format!(
+            "checkpoints {:?} must be a non-empty increasing list of frame counts",
+            settings.checkpoints
+        )));
+    }
+    if settings.checkpoints[0] == 0 || settings.reference_spp < 2 {
+        return Err(BenchError::Settings(
+            "checkpoints start at 1 frame and the reference needs at least 2 spp".into(),
+        ));
+    }
+    let info = &renderer.context.info;
+    let mut results = BenchResults {
+        adapter: renderer.context.describe(),
+        driver: format!("{} {}", info.driver, info.driver_info),
+        width: settings.width,
+        height: settings.height,
+        rel_mse_epsilon: CompareSettings::default().rel_mse_epsilon,
+        flip_tonemapping: "Khronos PBR Neutral, exposure 1, 67 pixels per degree".into(),
+        scenes: Vec::new(),
+    };
+    for scene in scenes {
+        progress(BenchProgress::Reference(scene.label()));
+        let reference = converged_reference(
+            scene,
+            settings.width,
+            settings.height,
+            settings.reference_spp,
+            &settings.cache_dir,
+        )?;
+        let mut world = scene.load()?;
+        let mut runs = Vec::new();
+        for config in configs {
+            progress(BenchProgress::Run {
+                scene: scene.label(),
+                config: config.name.clone(),
+            });
+            runs.push(measure(
+                renderer,
+                &mut world,
+                config,
+                settings,
+                &reference.image,
+            )?);
+        }
+        results.scenes.push(SceneResult {
+            scene: scene.label(),
+            reference_spp: settings.reference_spp,
+            reference_noise: reference.noise,
+            reference_seconds: if reference.cached {
+                0.0
+            } else {
+                reference.seconds
+            },
+            runs,
+        });
+    }
+    Ok(results)
+}
+
+/// Writes `results.json`, `results.md` and `error_vs_time_N.png` (N the scene's index) into
+/// `dir`; returns the files written. A plot that cannot be drawn (no font for its labels) is
+/// logged and left out; the tables are always written.
+pub fn write_outputs(results: &BenchResults, dir: &Path) -> Result<Vec<PathBuf>, BenchError> {
+    fs::create_dir_all(dir).map_err(|e| BenchError::io(dir, &e))?;
+    let json_path = dir.join("results.json");
+    let json = serde_json::to_string_pretty(results).expect("plain data");
+    fs::write(&json_path, json).map_err(|e| BenchError::io(&json_path, &e))?;
+    let md_path = dir.join("results.md");
+    fs::write(&md_path, results.to_markdown()).map_err(|e| BenchError::io(&md_path, &e))?;
+    let mut written = vec![json_path, md_path];
+    for (i, scene) in results.scenes.iter().enumerate() {
+        let path = dir.join(format!("error_vs_time_{i}.png"));
+        match plot::plot_scene(&path, results, scene) {
+            Ok(()) => written.push(path),
+            Err(e) => log::warn!("{}: {e}", path.display()),
+        }
+    }
+    Ok(written)
+}

@@ -1,0 +1,144 @@
+//! The converged reference of a benchmark scene, rendered once by the CPU reference path
+//! tracer and cached on disk under a hash of everything that decides its pixels.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use chiaro_reference::{PathSettings, RenderSettings, read_exr, render_world, write_exr};
+use serde::{Deserialize, Serialize};
+
+use super::{BenchError, BenchScene};
+use crate::HdrImage;
+
+/// The seed of every converged reference (the GPU runs use other seeds, so the two share no
+/// random numbers).
+const REFERENCE_SEED: u64 = 0x005e_ed0f_7e57;
+
+/// A converged reference and what is known of its own noise.
+pub struct Reference {
+    /// The linear HDR image.
+    pub image: HdrImage,
+    /// Its own relMSE noise: a quarter of the relMSE between its two independent halves.
+    pub noise: f64,
+    /// Seconds the CPU reference took (when it was rendered, not read from the cache).
+    pub seconds: f64,
+    /// True when it was read from the cache.
+    pub cached: bool,
+}
+
+/// What the cache keeps beside the image.
+#[derive(Serialize, Deserialize)]
+struct Sidecar {
+    noise: f64,
+    seconds: f64,
+}
+
+/// FNV-1a over `text`: a hash that stays the same across builds and platforms.
+fn fnv1a(text: &str) -> u64 {
+    text.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
+/// What decides the reference's pixels: the scene, its environment file (by path, size and
+/// modification time), the image size, the sample count, the seed, the path settings and the
+/// chiaro version.
+fn cache_key(scene: &BenchScene, width: u32, height: u32, spp: u32) -> String {
+    let env = scene.env.as_ref().map(|path| {
+        let meta = fs::metadata(path).ok();
+        let size = meta.as_ref().map(|m| m.len());
+        let modified = meta.and_then(|m| m.modified().ok());
+        format!("{} {size:?} {modified:?}", path.display())
+    });
+    format!(
+        "{} {env:?} {width}x{height} {spp} {REFERENCE_SEED} {:?} {}",
+        scene.scene,
+        PathSettings::default(),
+        env!("CARGO_PKG_VERSION")
+    )
+}
+
+/// The cached reference's path in `cache_dir`.
+fn cache_path(cache_dir: &Path, key: &str) -> PathBuf {
+    cache_dir.join(format!("reference-{:016x}.exr", fnv1a(key)))
+}
+
+/// The converged reference of `scene` at `width` x `height` with `spp` samples per pixel:
+/// read from `cache_dir` when it is there, else rendered (on every core) and stored.
+pub fn converged_reference(
+    scene: &BenchScene,
+    width: u32,
+    height: u32,
+    spp: u32,
+    cache_dir: &Path,
+) -> Result<Reference, BenchError> {
+    let key = cache_key(scene, width, height, spp);
+    let path = cache_path(cache_dir, &key);
+    let sidecar_path = path.with_extension("json");
+    if let (Ok(text), true) = (fs::read_to_string(&sidecar_path), path.exists())
+        && let Ok(sidecar) = serde_json::from_str::<Sidecar>(&text)
+    {
+        let (w, h, pixels) = read_exr(&path)?;
+        let image = HdrImage::new(&path.display().to_string(), w, h, pixels)?;
+        return Ok(Reference {
+            image,
+            noise: sidecar.noise,
+            seconds: sidecar.seconds,
+            cached: true,
+        });
+    }
+    let mut world = scene.load()?;
+    let settings = RenderSettings {
+        width,
+        height,
+        spp,
+        seed: REFERENCE_SEED,
+        ..RenderSettings::default()
+    };
+    let start = Instant::now();
+    let output = render_world(&mut world, &settings, false)?;
+    let seconds = start.elapsed().as_secs_f64();
+    let noise = output.halves_rel_mse() / 4.0;
+    fs::create_dir_all(cache_dir).map_err(|e| BenchError::io(cache_dir, &e))?;
+    write_exr(&path, width, height, &output.image)?;
+    let sidecar = serde_json::to_string(&Sidecar { noise, seconds }).expect("plain numbers");
+    fs::write(&sidecar_path, sidecar).map_err(|e| BenchError::io(&sidecar_path, &e))?;
+    let image = HdrImage::new(&scene.label(), width, height, output.image)?;
+    Ok(Reference {
+        image,
+        noise,
+        seconds,
+        cached: false,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_key_changes_with_everything_that_decides_the_pixels() {
+        let scene = BenchScene::builtin("builtin:cornell");
+        let base = cache_key(&scene, 64, 64, 16);
+        assert_ne!(base, cache_key(&scene, 64, 32, 16));
+        assert_ne!(base, cache_key(&scene, 64, 64, 32));
+        assert_ne!(
+            base,
+            cache_key(&BenchScene::builtin("builtin:furnace"), 64, 64, 16)
+        );
+        let lit = BenchScene {
+            env: Some(PathBuf::from("sky.hdr")),
+            ..scene.clone()
+        };
+        assert_ne!(base, cache_key(&lit, 64, 64, 16));
+        assert_eq!(base, cache_key(&scene, 64, 64, 16));
+    }
+
+    #[test]
+    fn fnv1a_matches_its_published_test_vectors() {
+        assert_eq!(fnv1a(""), 0xcbf2_9ce4_8422_2325);
+        assert_eq!(fnv1a("a"), 0xaf63_dc4c_8601_ec8c);
+        assert_eq!(fnv1a("foobar"), 0x8594_4171_f739_67e8);
+    }
+}

@@ -1,0 +1,228 @@
+//! What a benchmark measured, as `results.json` and as a markdown table, with the equal-time
+//! comparison read off the error-against-time curves.
+
+use serde::Serialize;
+
+/// Everything one `chiaro bench` run measured.
+#[derive(Clone, Debug, Serialize)]
+pub struct BenchResults {
+    /// The adapter, its backend and device type.
+    pub adapter: String,
+    /// The adapter's driver and its version.
+    pub driver: String,
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// relMSE's epsilon.
+    pub rel_mse_epsilon: f32,
+    /// How the 8-bit images FLIP reads were made.
+    pub flip_tonemapping: String,
+    /// Per scene.
+    pub scenes: Vec<SceneResult>,
+}
+
+/// One scene's reference and runs.
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneResult {
+    /// The scene, with its environment when it has one.
+    pub scene: String,
+    /// Samples per pixel of the converged CPU reference.
+    pub reference_spp: u32,
+    /// The reference's own relMSE noise (a quarter of the relMSE between its halves): errors
+    /// near it are limited by the reference.
+    pub reference_noise: f64,
+    /// Seconds the reference took to render (0 when read from the cache).
+    pub reference_seconds: f64,
+    /// One per configuration.
+    pub runs: Vec<RunResult>,
+}
+
+/// One configuration's figures on one scene.
+#[derive(Clone, Debug, Serialize)]
+pub struct RunResult {
+    /// The configuration's name.
+    pub config: String,
+    /// Median wall time of one frame (recording, submission and completion), milliseconds.
+    pub median_frame_ms: f64,
+    /// Median time of each pass, milliseconds, in frame order.
+    pub pass_ms: Vec<(String, f64)>,
+    /// True when the pass times are GPU timestamps, false when wall clock.
+    pub gpu_timestamps: bool,
+    /// Error after each checkpoint's frame count, static camera.
+    pub checkpoints: Vec<Checkpoint>,
+}
+
+/// The error after a number of frames.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Checkpoint {
+    /// Frames rendered.
+    pub frames: u32,
+    /// Wall time of those frames, seconds.
+    pub seconds: f64,
+    /// relMSE against the converged reference (linear HDR).
+    pub rel_mse: f64,
+    /// Mean LDR-FLIP against the converged reference.
+    pub flip_mean: f64,
+}
+
+impl RunResult {
+    /// The relMSE at `seconds` of rendering, interpolated log-log between the checkpoints
+    /// around it; `None` outside the measured span.
+    pub fn rel_mse_at(&self, seconds: f64) -> Option<f64> {
+        let points: Vec<(f64, f64)> = self
+            .checkpoints
+            .iter()
+            .filter(|c| c.seconds > 0.0 && c.rel_mse > 0.0)
+            .map(|c| (c.seconds.ln(), c.rel_mse.ln()))
+            .collect();
+        let t = seconds.ln();
+        if let [(t0, e0)] = points[..] {
+            return ((t - t0).abs() < 1e-9).then(|| e0.exp());
+        }
+        points.windows(2).find_map(|w| {
+            let ((t0, e0), (t1, e1)) = (w[0], w[1]);
+            (t0 <= t && t <= t1).then(|| {
+                let s = if t1 > t0 { (t - t0) / (t1 - t0) } else { 0.0 };
+                (e0 + s * (e1 - e0)).exp()
+            })
+        })
+    }
+}
+
+impl SceneResult {
+    /// The equal-time budget: the longest time every run reached, seconds.
+    pub fn equal_time_budget(&self) -> Option<f64> {
+        self.runs
+            .iter()
+            .filter_map(|r| r.checkpoints.last().map(|c| c.seconds))
+            .reduce(f64::min)
+    }
+}
+
+fn pass_summary(run: &RunResult) -> String {
+    run.pass_ms
+        .iter()
+        .map(|(name, ms)| format!("{name} {ms:.2}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+impl BenchResults {
+    /// The results as markdown: a header naming the adapter, driver and size; per scene a
+    /// table of frame time and error after each checkpoint, then the equal-time comparison.
+    pub fn to_markdown(&self) -> String {
+        let mut md = format!(
+            "Adapter: {}; driver: {}; {}x{}. Error: relMSE (linear HDR, epsilon {}) and mean \
+             LDR-FLIP ({}) against the converged CPU reference, static camera; time: median \
+             wall time per frame, and per pass (ms).\n",
+            self.adapter,
+            self.driver,
+            self.width,
+            self.height,
+            self.rel_mse_epsilon,
+            self.flip_tonemapping
+        );
+        for scene in &self.scenes {
+            md += &format!(
+                "\n### {}\n\nReference: {} spp, own noise {:.2e}.\n\n",
+                scene.scene, scene.reference_spp, scene.reference_noise
+            );
+            let frames: Vec<u32> = scene
+                .runs
+                .first()
+                .map(|r| r.checkpoints.iter().map(|c| c.frames).collect())
+                .unwrap_or_default();
+            md += "| config | frame (ms) |";
+            for f in &frames {
+                md += &format!(" relMSE @{f} | FLIP @{f} |");
+            }
+            md += " passes (ms) |\n|---|---|";
+            md += &"---|---|".repeat(frames.len());
+            md += "---|\n";
+            for run in &scene.runs {
+                md += &format!("| {} | {:.2} |", run.config, run.median_frame_ms);
+                for c in &run.checkpoints {
+                    md += &format!(" {:.3e} | {:.4} |", c.rel_mse, c.flip_mean);
+                }
+                md += &format!(" {} |\n", pass_summary(run));
+            }
+            if let Some(budget) = scene.equal_time_budget() {
+                md += &format!("\nAt equal time ({budget:.3} s of frames): ");
+                let at: Vec<String> = scene
+                    .runs
+                    .iter()
+                    .map(|r| match r.rel_mse_at(budget) {
+                        Some(e) => format!("{} {e:.3e}", r.config),
+                        None => format!("{} (slower than the budget)", r.config),
+                    })
+                    .collect();
+                md += &at.join("; ");
+                md += ".\n";
+            }
+        }
+        md
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn run(points: &[(f64, f64)]) -> RunResult {
+        RunResult {
+            config: "x".into(),
+            median_frame_ms: 1.0,
+            pass_ms: vec![("direct".into(), 1.0)],
+            gpu_timestamps: false,
+            checkpoints: points
+                .iter()
+                .enumerate()
+                .map(|(i, &(seconds, rel_mse))| Checkpoint {
+                    frames: 1 << (2 * i),
+                    seconds,
+                    rel_mse,
+                    flip_mean: 0.1,
+                })
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn error_at_a_time_follows_the_log_log_line_and_is_none_outside_it() {
+        // Error halving per doubling of time: a slope of -1 on log-log.
+        let r = run(&[(1.0, 1.0), (4.0, 0.25)]);
+        assert!((r.rel_mse_at(2.0).unwrap() - 0.5).abs() < 1e-9);
+        assert!((r.rel_mse_at(4.0).unwrap() - 0.25).abs() < 1e-9);
+        assert_eq!(r.rel_mse_at(0.5), None);
+        assert_eq!(r.rel_mse_at(8.0), None);
+    }
+
+    #[test]
+    fn the_budget_is_the_shortest_run_and_the_table_names_every_run() {
+        let results = BenchResults {
+            adapter: "a".into(),
+            driver: "d".into(),
+            width: 8,
+            height: 8,
+            rel_mse_epsilon: 0.01,
+            flip_tonemapping: "t".into(),
+            scenes: vec![SceneResult {
+                scene: "builtin:cornell".into(),
+                reference_spp: 4,
+                reference_noise: 1e-3,
+                reference_seconds: 1.0,
+                runs: vec![run(&[(1.0, 1.0), (4.0, 0.25)]), {
+                    let mut fast = run(&[(0.5, 2.0), (2.0, 1.0)]);
+                    fast.config = "fast".into();
+                    fast
+                }],
+            }],
+        };
+        assert_eq!(results.scenes[0].equal_time_budget(), Some(2.0));
+        let md = results.to_markdown();
+        assert!(md.contains("| x | 1.00 |"), "{md}");
+        assert!(md.contains("| fast | 1.00 |"), "{md}");
+        assert!(md.contains("x 5.000e-1; fast 1.000e0"), "{md}");
+    }
+}

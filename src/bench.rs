@@ -1,0 +1,95 @@
+//! `chiaro bench`: speed against error of the GPU frame's configurations, per scene, against
+//! the converged CPU reference; writes results.json, results.md and the plots.
+
+use std::path::PathBuf;
+
+use anyhow::{Result, bail};
+use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
+
+use chiaro::eval::bench::{
+    BenchProgress, BenchScene, BenchSettings, default_configs, default_scenes, run_bench,
+    write_outputs,
+};
+
+/// What `chiaro bench` takes.
+#[derive(Args)]
+pub struct BenchArgs {
+    /// Scenes (.gltf, .glb or builtin:NAME); by default the built-in set, and the models of
+    /// ../shared/scenes under its environment map when that folder is there.
+    #[arg(long, num_args = 1..)]
+    scenes: Vec<String>,
+    /// An equirectangular .hdr or .exr environment for the scenes given with --scenes.
+    #[arg(long)]
+    env: Option<PathBuf>,
+    /// Image size, WxH.
+    #[arg(long, default_value = "256x256", value_parser = crate::parse_size)]
+    size: (u32, u32),
+    /// Where results.json, results.md and the plots go.
+    #[arg(long, default_value = "bench")]
+    out: PathBuf,
+    /// Frame counts after which the error is measured (the last is how many are rendered).
+    #[arg(long, value_delimiter = ',', default_value = "1,4,16,64")]
+    checkpoints: Vec<u32>,
+    /// Samples per pixel of the converged references (cached in OUT/cache).
+    #[arg(long, default_value_t = 1024)]
+    reference_spp: u32,
+    /// Frames rendered before timing starts.
+    #[arg(long, default_value_t = 2)]
+    warmup: u32,
+}
+
+/// Runs the benchmark, showing progress, and prints the markdown table.
+pub fn run(args: &BenchArgs) -> Result<()> {
+    let scenes: Vec<BenchScene> = if args.scenes.is_empty() {
+        if args.env.is_some() {
+            bail!("--env applies to the scenes given with --scenes");
+        }
+        default_scenes(&PathBuf::from("../shared/scenes"))
+    } else {
+        args.scenes
+            .iter()
+            .map(|scene| BenchScene {
+                scene: scene.clone(),
+                env: args.env.clone(),
+            })
+            .collect()
+    };
+    let configs = default_configs();
+    let settings = BenchSettings {
+        width: args.size.0,
+        height: args.size.1,
+        checkpoints: args.checkpoints.clone(),
+        reference_spp: args.reference_spp,
+        cache_dir: args.out.join("cache"),
+        warmup_frames: args.warmup,
+    };
+    let context = chiaro::gpu::GpuContext::new_headless()?;
+    eprintln!("adapter: {}", context.describe());
+    let mut renderer = chiaro::gpu::Renderer::new(context);
+    let bar = ProgressBar::new((scenes.len() * (configs.len() + 1)) as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} {msg}")
+            .expect("a valid template")
+            .progress_chars("=> "),
+    );
+    let mut started = false;
+    let mut progress = |step: BenchProgress| {
+        if started {
+            bar.inc(1);
+        }
+        started = true;
+        bar.set_message(match step {
+            BenchProgress::Reference(scene) => format!("{scene}: reference"),
+            BenchProgress::Run { scene, config } => format!("{scene}: {config}"),
+        });
+    };
+    let results = run_bench(&mut renderer, &scenes, &configs, &settings, &mut progress)?;
+    bar.inc(1);
+    bar.finish_with_message("done");
+    for path in write_outputs(&results, &args.out)? {
+        eprintln!("wrote {}", path.display());
+    }
+    println!("{}", results.to_markdown());
+    Ok(())
+}

@@ -1,0 +1,130 @@
+//! `chiaro bench` end to end on a tiny image: every output is written, the figures are
+//! finite and complete, the reference is cached and read back on a second run, and bad
+//! settings are refused with a clear error. Skipped with a message when this machine has no
+//! GPU adapter, unless CI is set.
+
+use std::path::Path;
+mod common;
+
+use common::{chiaro, gpu_missing};
+
+use serde_json::Value;
+
+fn bench(dir: &Path) -> std::process::Output {
+    chiaro(&[
+        "bench",
+        "--scenes",
+        "builtin:cornell",
+        "--size",
+        "16x12",
+        "--reference-spp",
+        "8",
+        "--checkpoints",
+        "1,2,4",
+        "--warmup",
+        "0",
+        "--out",
+        dir.to_str().unwrap(),
+    ])
+}
+
+fn results(dir: &Path) -> Value {
+    let text = std::fs::read_to_string(dir.join("results.json")).unwrap();
+    serde_json::from_str(&text).unwrap()
+}
+
+#[test]
+fn bench_writes_results_table_and_plot_and_caches_the_reference() {
+    let dir = std::env::temp_dir().join(format!("chiaro_cli_bench_{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    let out = bench(&dir);
+    if gpu_missing(&out) {
+        return;
+    }
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let first = results(&dir);
+    assert_eq!(
+        (first["width"].as_u64(), first["height"].as_u64()),
+        (Some(16), Some(12))
+    );
+    assert!(!first["adapter"].as_str().unwrap().is_empty());
+    let scenes = first["scenes"].as_array().unwrap();
+    assert_eq!(scenes.len(), 1);
+    let scene = &scenes[0];
+    assert_eq!(scene["scene"], "builtin:cornell");
+    assert!(scene["reference_seconds"].as_f64().unwrap() > 0.0);
+    let runs = scene["runs"].as_array().unwrap();
+    assert!(!runs.is_empty());
+    for run in runs {
+        assert!(run["median_frame_ms"].as_f64().unwrap() > 0.0, "{run}");
+        assert!(!run["pass_ms"].as_array().unwrap().is_empty(), "{run}");
+        let frames: Vec<u64> = run["checkpoints"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|c| c["frames"].as_u64().unwrap())
+            .collect();
+        assert_eq!(frames, [1, 2, 4], "{run}");
+        let mut previous_seconds = 0.0;
+        for c in run["checkpoints"].as_array().unwrap() {
+            let rel_mse = c["rel_mse"].as_f64().unwrap();
+            let flip = c["flip_mean"].as_f64().unwrap();
+            let seconds = c["seconds"].as_f64().unwrap();
+            assert!(rel_mse.is_finite() && rel_mse > 0.0, "{c}");
+            assert!((0.0..=1.0).contains(&flip), "{c}");
+            assert!(seconds > previous_seconds, "{c}");
+            previous_seconds = seconds;
+        }
+        let table = std::fs::read_to_string(dir.join("results.md")).unwrap();
+        let row = format!("| {} |", run["config"].as_str().unwrap());
+        assert!(table.contains(&row), "{table}");
+    }
+    let plot = dir.join("error_vs_time_0.png");
+    if Path::new("/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf").exists() {
+        let image = image::open(&plot).unwrap();
+        assert_eq!((image.width(), image.height()), (900, 600));
+    }
+
+    // The second run reads the reference from the cache.
+    let out = bench(&dir);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let second = results(&dir);
+    assert_eq!(second["scenes"][0]["reference_seconds"].as_f64(), Some(0.0));
+    assert_eq!(
+        second["scenes"][0]["reference_noise"],
+        first["scenes"][0]["reference_noise"]
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn bench_refuses_checkpoints_out_of_order() {
+    let dir = std::env::temp_dir().join(format!("chiaro_cli_bench_bad_{}", std::process::id()));
+    let out = chiaro(&[
+        "bench",
+        "--scenes",
+        "builtin:cornell",
+        "--checkpoints",
+        "4,1",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    if gpu_missing(&out) {
+        return;
+    }
+    assert!(!out.status.success());
+    let text = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        text.contains("checkpoints [4, 1] must be a non-empty increasing list"),
+        "{text}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
