@@ -1,5 +1,5 @@
-//! The frame's render targets and images: the G-buffer, the direct light of the frame, the
-//! accumulated HDR image and the tonemapped LDR image, all at the output size.
+//! The frame's render targets and images: the G-buffer, the direct and indirect light of the
+//! frame, the accumulated HDR image and the tonemapped LDR image, all at the output size.
 
 /// Format of the G-buffer's position target (world xyz, roughness; f32 bits: integer targets
 /// render on every backend, 32-bit float ones not on GL).
@@ -71,8 +71,12 @@ pub struct FrameTargets {
     pub motion: Target,
     /// Depth.
     pub depth: Target,
-    /// This frame's direct light (linear radiance).
+    /// This frame's direct light reflected by the surface seen (linear radiance, emission
+    /// excluded); where no surface is seen, the environment.
     pub direct: Target,
+    /// This frame's indirect light reflected by the surface seen (linear radiance, the mean of
+    /// the frame's paths; in naive mode, all the light the surface reflects).
+    pub indirect: Target,
     /// The accumulated linear HDR image.
     pub hdr: Target,
     /// The tonemapped sRGB image.
@@ -97,6 +101,7 @@ impl FrameTargets {
             motion: Target::new(device, "gbuffer motion", MOTION_FORMAT, size, gbuffer),
             depth: Target::new(device, "gbuffer depth", DEPTH_FORMAT, size, gbuffer),
             direct: Target::new(device, "direct light", HDR_FORMAT, size, storage),
+            indirect: Target::new(device, "indirect light", HDR_FORMAT, size, storage),
             hdr: Target::new(device, "hdr image", HDR_FORMAT, size, storage),
             ldr: Target::new(device, "ldr image", LDR_FORMAT, size, storage),
             accumulation: device.create_buffer(&wgpu::BufferDescriptor {

@@ -1,0 +1,200 @@
+//! What a frame computes: the mode, the path tracing budget, the denoiser and the display, as
+//! one documented struct that is also an ECS resource (an app edits it in its World).
+
+use bevy_ecs::prelude::Resource;
+use chiaro_shading::tonemap::Tonemapper;
+use thiserror::Error;
+
+/// Most paths per pixel per frame [`FrameSettings::validate`] accepts.
+pub const MAX_SPP: u32 = 64;
+/// Most indirect bounces [`FrameSettings::validate`] accepts.
+pub const MAX_BOUNCES: u32 = 64;
+
+/// What each frame computes (one pipeline; the modes differ in which passes run).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum RenderMode {
+    /// Emission and direct light with shadow rays, accumulated over frames (no indirect light).
+    Direct,
+    /// The real-time frame: direct light, `spp` indirect paths of at most `bounces` bounces,
+    /// temporal accumulation and a-trous denoising.
+    #[default]
+    Realtime,
+    /// Progressive unbiased path tracing on the GPU: full depth with Russian roulette, no
+    /// denoising, accumulation until the camera or the scene changes.
+    Reference,
+    /// The baseline of the path tracing notes: uniform hemisphere directions (pdf 1 / 2 pi),
+    /// no light sampling, no denoising; accumulated like `Reference`.
+    Naive,
+}
+
+impl RenderMode {
+    /// Every mode, in the order the CLI lists them.
+    pub const ALL: [RenderMode; 4] = [
+        RenderMode::Realtime,
+        RenderMode::Reference,
+        RenderMode::Naive,
+        RenderMode::Direct,
+    ];
+
+    /// The mode's name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            RenderMode::Direct => "direct",
+            RenderMode::Realtime => "realtime",
+            RenderMode::Reference => "reference",
+            RenderMode::Naive => "naive",
+        }
+    }
+
+    /// Whether frames are averaged with equal weights until something changes (every mode but
+    /// `Realtime`, whose temporal pass keeps its own history).
+    pub fn accumulates(self) -> bool {
+        self != RenderMode::Realtime
+    }
+}
+
+/// The denoiser of the realtime mode: temporal accumulation, then variance estimation and an
+/// edge-avoiding a-trous filter (SVGF: Schied et al., "Spatiotemporal Variance-Guided
+/// Filtering", HPG 2017).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DenoiseSettings {
+    /// Whether the temporal, variance and a-trous passes run (off: the raw 1-frame lighting).
+    pub enabled: bool,
+    /// Least weight of the new frame in the temporal moving average, whose weight is
+    /// 1 / (history length) until it reaches this floor. Lower: less noise on a still view,
+    /// longer lag (ghosting) when lighting changes without motion vectors to show it. Higher:
+    /// faster response, more noise.
+    pub temporal_floor: f32,
+    /// A-trous iterations (steps 1, 2, 4, ...). More: a wider, smoother filter and more blur
+    /// of small detail; fewer: more noise left.
+    pub atrous_iterations: u32,
+    /// Depth edge-stopping (sigma_z of SVGF, in units of the depth gradient). Higher: blurs
+    /// across depth edges; lower: stops at smaller depth changes, keeping more noise on
+    /// slanted surfaces.
+    pub sigma_depth: f32,
+    /// Normal edge-stopping exponent (sigma_n of SVGF). Higher: stops at smaller normal changes;
+    /// lower: blurs across creases.
+    pub sigma_normal: f32,
+    /// Luminance edge-stopping in standard deviations (sigma_l of SVGF). Higher: smooths more
+    /// noise and more lighting detail; lower: keeps detail and noise.
+    pub sigma_luminance: f32,
+}
+
+impl Default for DenoiseSettings {
+    fn default() -> Self {
+        Self {
+            enabled: true,
+            temporal_floor: 0.05,
+            atrous_iterations: 5,
+            sigma_depth: 1.0,
+            sigma_normal: 128.0,
+            sigma_luminance: 4.0,
+        }
+    }
+}
+
+/// Everything a frame computes beyond the scene and the camera.
+#[derive(Clone, Copy, Debug, PartialEq, Resource)]
+pub struct FrameSettings {
+    /// What the frame computes.
+    pub mode: RenderMode,
+    /// Indirect paths per pixel per frame (realtime, reference and naive). More: less noise,
+    /// proportionally more time.
+    pub spp: u32,
+    /// Indirect bounces of the realtime mode: light is gathered at up to `bounces` surfaces
+    /// after the one the camera sees (1 is one-bounce global illumination). Higher: less
+    /// energy lost (a darker image is the bias of a low cap), more time. Reference and naive
+    /// paths end by Russian roulette only (at most [`MAX_BOUNCES`]).
+    pub bounces: u32,
+    /// The realtime mode's denoiser.
+    pub denoise: DenoiseSettings,
+    /// Tonemapping operator of the LDR image.
+    pub tonemapper: Tonemapper,
+    /// Exposure multiplier before tonemapping.
+    pub exposure: f32,
+}
+
+impl Default for FrameSettings {
+    fn default() -> Self {
+        Self {
+            mode: RenderMode::Realtime,
+            spp: 1,
+            bounces: 2,
+            denoise: DenoiseSettings::default(),
+            tonemapper: Tonemapper::PbrNeutral,
+            exposure: 1.0,
+        }
+    }
+}
+
+/// A setting out of its range.
+#[derive(Debug, Error, PartialEq)]
+#[error("frame setting {name} = {value} is out of range: {expected}")]
+pub struct SettingsError {
+    /// The setting.
+    pub name: &'static str,
+    /// Its value, printed.
+    pub value: String,
+    /// What it must be.
+    pub expected: &'static str,
+}
+
+impl FrameSettings {
+    /// Refuses a setting out of range (each error names the setting and the range).
+    pub fn validate(&self) -> Result<(), SettingsError> {
+        let fail = |name, value: String, expected| {
+            Err(SettingsError {
+                name,
+                value,
+                expected,
+            })
+        };
+        let d = &self.denoise;
+        if !(1..=MAX_SPP).contains(&self.spp) {
+            return fail("spp", self.spp.to_string(), "1..=64");
+        }
+        if !(1..=MAX_BOUNCES).contains(&self.bounces) {
+            return fail("bounces", self.bounces.to_string(), "1..=64");
+        }
+        if !(d.temporal_floor > 0.0 && d.temporal_floor <= 1.0) {
+            return fail("temporal_floor", d.temporal_floor.to_string(), "in (0, 1]");
+        }
+        if d.atrous_iterations > 10 {
+            return fail("atrous_iterations", d.atrous_iterations.to_string(), "0..=10");
+        }
+        for (name, value) in [
+            ("sigma_depth", d.sigma_depth),
+            ("sigma_normal", d.sigma_normal),
+            ("sigma_luminance", d.sigma_luminance),
+        ] {
+            if !(value.is_finite() && value > 0.0) {
+                return fail(name, value.to_string(), "finite and above 0");
+            }
+        }
+        if !(self.exposure.is_finite() && self.exposure > 0.0) {
+            return fail("exposure", self.exposure.to_string(), "finite and above 0");
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_valid_and_bad_values_are_named() {
+        assert_eq!(FrameSettings::default().validate(), Ok(()));
+        let bad = FrameSettings {
+            spp: 0,
+            ..Default::default()
+        };
+        assert_eq!(bad.validate().unwrap_err().name, "spp");
+        let mut bad = FrameSettings::default();
+        bad.denoise.sigma_luminance = f32::NAN;
+        assert_eq!(bad.validate().unwrap_err().name, "sigma_luminance");
+        let mut bad = FrameSettings::default();
+        bad.denoise.temporal_floor = 0.0;
+        assert_eq!(bad.validate().unwrap_err().name, "temporal_floor");
+    }
+}
