@@ -4,6 +4,7 @@
 pub mod composite;
 pub mod direct;
 pub mod gbuffer;
+pub mod indirect;
 pub mod tonemap;
 
 use crate::shaders::{self, ShaderError};
