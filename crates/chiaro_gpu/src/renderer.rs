@@ -189,16 +189,62 @@ impl Renderer {
         settings: &RenderSettings,
         frames: u32,
     ) -> Result<Vec<PassTimes>, RenderError> {
+        self.prepare(world, settings, true)?;
+        let mut times = Vec::with_capacity(frames as usize);
+        for _ in 0..frames {
+            self.schedule.run(world);
+            times.push(self.draw(world, settings)?);
+        }
+        Ok(times)
+    }
+
+    /// Gives `world` the [`GpuScene`] resource that chiaro's systems upload into, if it has
+    /// none: an app that runs those systems in its own schedule calls this once before that
+    /// schedule first runs.
+    pub fn attach(&self, world: &mut World) {
+        if !world.contains_resource::<GpuScene>() {
+            let scene = GpuScene::new(&self.context.device, &self.context.queue);
+            world.insert_resource(scene);
+        }
+    }
+
+    /// Renders one frame of `world` for an app that owns its main loop and its `Schedule`:
+    /// the app added chiaro's systems to that schedule ([`add_gpu_scene_systems`]) and ran it
+    /// this frame, so this renders without running any system. When the world holds a
+    /// [`FrameSettings`] resource, it decides what the frame computes (the app edits it like
+    /// any other resource); otherwise `settings.frame` does. Read the image with
+    /// [`Renderer::read`].
+    pub fn render_frame(
+        &mut self,
+        world: &mut World,
+        settings: &RenderSettings,
+    ) -> Result<PassTimes, RenderError> {
+        let settings = RenderSettings {
+            frame: world
+                .get_resource::<FrameSettings>()
+                .copied()
+                .unwrap_or(settings.frame),
+            ..*settings
+        };
+        self.prepare(world, &settings, false)?;
+        self.draw(world, &settings)
+    }
+
+    /// Checks the settings, gives the world its [`GpuScene`] and (re)makes the frame for a new
+    /// world or size; `own_systems`: this renderer runs the scene systems itself.
+    fn prepare(
+        &mut self,
+        world: &mut World,
+        settings: &RenderSettings,
+        own_systems: bool,
+    ) -> Result<(), RenderError> {
         settings.frame.validate()?;
         let max = self.context.device.limits().max_texture_dimension_2d;
         let (width, height) = (settings.width, settings.height);
         if width == 0 || height == 0 || width > max || height > max {
             return Err(RenderError::Size { width, height, max });
         }
-        if !world.contains_resource::<GpuScene>() {
-            let scene = GpuScene::new(&self.context.device, &self.context.queue);
-            world.insert_resource(scene);
-        }
+        self.attach(world);
         if self.world != Some(world.id()) {
             // A schedule's systems belong to one world: a new world gets new ones.
             self.schedule = Self::schedule();
@@ -212,44 +258,45 @@ impl Renderer {
             .as_ref()
             .is_none_or(|f| (f.targets.width, f.targets.height) != (width, height));
         if resized {
-            self.schedule.run(world);
+            if own_systems {
+                self.schedule.run(world);
+            }
             let scene = world.resource::<GpuScene>();
             self.frame = Some(Frame::new(&self.context, scene, width, height)?);
             self.accumulated = 0;
             self.reset_history = true;
         }
-        let mut times = Vec::with_capacity(frames as usize);
-        for _ in 0..frames {
-            self.schedule.run(world);
-            let (camera, global) = active_camera(world)?;
-            let jitter = jitter(settings.seed, self.frame_index);
-            let gpu_camera = GpuCamera::new(&camera, &global, width, height, jitter, self.previous);
-            let scene = world.resource::<GpuScene>();
-            let changed = self.previous != Some(gpu_camera.unjittered())
-                || scene.last.writes > 0
-                || self.last_settings != Some(settings.frame);
-            if changed && settings.frame.mode.accumulates() {
-                self.accumulated = 0;
-            }
-            if self.reset_history {
-                self.accumulated = 0;
-            }
-            self.previous = Some(gpu_camera.unjittered());
-            self.last_settings = Some(settings.frame);
-            self.accumulated += 1;
-            let input = FrameInput {
-                frame: self.frame_index,
-                seed: settings.seed,
-                accumulated: self.accumulated,
-                reset_history: self.reset_history,
-                settings: settings.frame,
-                poison: self.poison,
-            };
-            let frame = self.frame.as_mut().expect("made above");
-            times.push(frame.render(&self.context, scene, &gpu_camera, &input));
-            self.reset_history = false;
-            self.frame_index += 1;
+        Ok(())
+    }
+
+    /// Renders one frame of `world` as its systems left it.
+    fn draw(&mut self, world: &World, settings: &RenderSettings) -> Result<PassTimes, RenderError> {
+        let (width, height) = (settings.width, settings.height);
+        let (camera, global) = active_camera(world)?;
+        let jitter = jitter(settings.seed, self.frame_index);
+        let gpu_camera = GpuCamera::new(&camera, &global, width, height, jitter, self.previous);
+        let scene = world.resource::<GpuScene>();
+        let changed = self.previous != Some(gpu_camera.unjittered())
+            || scene.last.writes > 0
+            || self.last_settings != Some(settings.frame);
+        if self.reset_history || (changed && settings.frame.mode.accumulates()) {
+            self.accumulated = 0;
         }
+        self.previous = Some(gpu_camera.unjittered());
+        self.last_settings = Some(settings.frame);
+        self.accumulated += 1;
+        let input = FrameInput {
+            frame: self.frame_index,
+            seed: settings.seed,
+            accumulated: self.accumulated,
+            reset_history: self.reset_history,
+            settings: settings.frame,
+            poison: self.poison,
+        };
+        let frame = self.frame.as_mut().ok_or(RenderError::NotRendered)?;
+        let times = frame.render(&self.context, scene, &gpu_camera, &input);
+        self.reset_history = false;
+        self.frame_index += 1;
         Ok(times)
     }
 
