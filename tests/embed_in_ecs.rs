@@ -6,8 +6,8 @@
 //! luminance is at least 0.05 (the lit box, not a black image); and the orbiting light shows:
 //! the frames with the light on the image's left (world +x: the camera looks down +z) and on
 //! its right (half an orbit later) differ, the left half brighter in the first and the right
-//! half brighter in the second, each by at least 5% of the half's luminance (measured with the direct and indirect passes: 27% and 50%; see the
-//! messages).
+//! half brighter in the second, each by at least 5% of the half's luminance (measured: 27% and
+//! 50%).
 
 mod common;
 
