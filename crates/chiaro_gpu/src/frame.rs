@@ -123,7 +123,7 @@ impl Frame {
             frame: input.frame,
             seed_lo: input.seed as u32,
             seed_hi: (input.seed >> 32) as u32,
-            pad: 0,
+            lights: 1,
         };
         queue.write_buffer(&self.direct_params, 0, bytemuck::bytes_of(&direct));
         let composite = CompositeParams {

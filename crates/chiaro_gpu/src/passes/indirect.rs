@@ -1,0 +1,74 @@
+//! `indirect`: one frame's indirect light per pixel from the G-buffer (see
+//! `shaders/indirect.wgsl`): the mean of `spp` paths from the surface seen, with next-event
+//! estimation and MIS at every later vertex and Russian roulette, up to `bounces` vertices
+//! after the primary one; or, in naive mode, paths of uniform hemisphere directions that carry
+//! all the light the surface reflects.
+
+use bytemuck::{Pod, Zeroable};
+
+use super::shading_pass::GbufferShadingPass;
+use crate::gpu_scene::GpuScene;
+use crate::shaders::ShaderError;
+use crate::targets::FrameTargets;
+
+/// The pass's uniform (mirrored by `IndirectParams` in `shaders/indirect.wgsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct IndirectParams {
+    /// Frame number: picks the random stream with the pixel.
+    pub frame: u32,
+    /// Seed, low 32 bits.
+    pub seed_lo: u32,
+    /// Seed, high 32 bits.
+    pub seed_hi: u32,
+    /// Paths per pixel (0 writes zero).
+    pub spp: u32,
+    /// Most vertices after the primary one at which a path gathers light: direct + indirect
+    /// with `bounces` = b is the CPU reference with max_depth b + 1.
+    pub bounces: u32,
+    /// 1: naive path tracing (uniform hemisphere directions, no light sampling; the output is
+    /// all the light the surface reflects); 0: BRDF sampling with next-event estimation.
+    pub naive: u32,
+    /// Test hook: nonzero writes NaN at pixel (0, 0) and +infinity at pixel (1, 0).
+    pub poison: u32,
+    /// Padding.
+    pub pad: u32,
+}
+
+/// The indirect-light pass.
+pub struct IndirectPass {
+    pass: GbufferShadingPass,
+}
+
+impl IndirectPass {
+    /// The pipeline for the scene's bind-group layout.
+    pub fn new(device: &wgpu::Device, scene: &GpuScene) -> Result<Self, ShaderError> {
+        Ok(Self {
+            pass: GbufferShadingPass::new(device, scene, "indirect")?,
+        })
+    }
+
+    /// The pass's bind group over `targets`, the camera and the parameters.
+    pub fn bind_group(
+        &self,
+        device: &wgpu::Device,
+        targets: &FrameTargets,
+        camera: &wgpu::Buffer,
+        params: &wgpu::Buffer,
+    ) -> wgpu::BindGroup {
+        self.pass
+            .bind_group(device, targets, camera, params, &targets.indirect.view)
+    }
+
+    /// Records the pass.
+    pub fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &GpuScene,
+        group: &wgpu::BindGroup,
+        targets: &FrameTargets,
+        timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) {
+        self.pass.record(encoder, scene, group, targets, timestamps);
+    }
+}
