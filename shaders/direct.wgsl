@@ -15,6 +15,7 @@
 #import lib/brdf.wgsl
 #import lib/camera.wgsl
 #import lib/gbuffer_packing.wgsl
+#import lib/gbuffer_inputs.wgsl
 #import lib/surface.wgsl
 #import lib/next_event.wgsl
 
@@ -27,10 +28,6 @@ struct DirectParams {
     lights: u32,
 }
 
-@group(1) @binding(0) var gbuffer_position: texture_2d<u32>;
-@group(1) @binding(1) var gbuffer_surface: texture_2d<u32>;
-@group(1) @binding(2) var gbuffer_emission: texture_2d<u32>;
-@group(1) @binding(3) var<uniform> camera: GpuCamera;
 @group(1) @binding(4) var<uniform> params: DirectParams;
 @group(1) @binding(5) var direct_out: texture_storage_2d<rgba32float, write>;
 
@@ -54,10 +51,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let pixel = vec2<i32>(id.xy);
-    var texels: GbufferTexels;
-    texels.position = textureLoad(gbuffer_position, pixel, 0);
-    texels.surface = textureLoad(gbuffer_surface, pixel, 0);
-    texels.emission = textureLoad(gbuffer_emission, pixel, 0);
+    let texels = gbuffer_load(pixel);
     if !gbuffer_covered(texels) {
         let ray = camera_ray(camera, vec2<f32>(id.xy) + camera.jitter);
         textureStore(direct_out, pixel, vec4<f32>(environment_seen(ray.direction), 1.0));

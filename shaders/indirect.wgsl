@@ -39,6 +39,7 @@
 #import lib/brdf.wgsl
 #import lib/camera.wgsl
 #import lib/gbuffer_packing.wgsl
+#import lib/gbuffer_inputs.wgsl
 #import lib/surface.wgsl
 #import lib/next_event.wgsl
 
@@ -54,10 +55,6 @@ struct IndirectParams {
     pad: u32,
 }
 
-@group(1) @binding(0) var gbuffer_position: texture_2d<u32>;
-@group(1) @binding(1) var gbuffer_surface: texture_2d<u32>;
-@group(1) @binding(2) var gbuffer_emission: texture_2d<u32>;
-@group(1) @binding(3) var<uniform> camera: GpuCamera;
 @group(1) @binding(4) var<uniform> params: IndirectParams;
 @group(1) @binding(5) var indirect_out: texture_storage_2d<rgba32float, write>;
 
@@ -155,10 +152,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         textureStore(indirect_out, pixel, vec4<f32>(vec3<f32>(poison), 1.0));
         return;
     }
-    var texels: GbufferTexels;
-    texels.position = textureLoad(gbuffer_position, pixel, 0);
-    texels.surface = textureLoad(gbuffer_surface, pixel, 0);
-    texels.emission = textureLoad(gbuffer_emission, pixel, 0);
+    let texels = gbuffer_load(pixel);
     var radiance = vec3<f32>(0.0);
     if gbuffer_covered(texels) {
         let g = gbuffer_unpack(texels);

@@ -70,6 +70,28 @@ fn light_contribution(s: Shading, ls: LightSample) -> vec4<f32> {
     return vec4<f32>(f * ls.radiance, brdf_pdf(s.params, s.wo, wi));
 }
 
+// The entry of the punctual (or, with `area`, the area) light table of `count` > 0 entries
+// that u in [0, 1) picks: the first whose CDF (the running sum of the masses) exceeds u.
+fn light_table_pick(u: f32, count: u32, area: bool) -> u32 {
+    var lo = 0u;
+    var hi = count - 1u;
+    while lo < hi {
+        let mid = (lo + hi) / 2u;
+        var cdf: f32;
+        if area {
+            cdf = scene_area_lights[mid].cdf;
+        } else {
+            cdf = scene_lights[mid].cdf;
+        }
+        if cdf <= u {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
+        }
+    }
+    return lo;
+}
+
 fn sample_punctual(light: GpuLight, p: vec3<f32>) -> LightSample {
     if light.kind == LIGHT_POINT {
         return sample_point(light.position, light.intensity, light.range, p);
@@ -91,18 +113,7 @@ fn punctual_light(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
         }
         return total;
     }
-    let u = pcg32_next_f32(rng);
-    var lo = 0u;
-    var hi = count - 1u;
-    while lo < hi {
-        let mid = (lo + hi) / 2u;
-        if scene_lights[mid].cdf <= u {
-            lo = mid + 1u;
-        } else {
-            hi = mid;
-        }
-    }
-    let light = scene_lights[lo];
+    let light = scene_lights[light_table_pick(pcg32_next_f32(rng), count, false)];
     return light_contribution(s, sample_punctual(light, s.position)).xyz / light.pmf;
 }
 
@@ -114,17 +125,7 @@ fn area_light(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
     if count == 0u {
         return vec3<f32>(0.0);
     }
-    var lo = 0u;
-    var hi = count - 1u;
-    while lo < hi {
-        let mid = (lo + hi) / 2u;
-        if scene_area_lights[mid].cdf <= u_pick {
-            lo = mid + 1u;
-        } else {
-            hi = mid;
-        }
-    }
-    let entry = scene_area_lights[lo];
+    let entry = scene_area_lights[light_table_pick(u_pick, count, true)];
     var ls: LightSample;
     if entry.instance == NO_INDEX {
         let es = environment_sample(scene_environment(), u);

@@ -4,10 +4,8 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::shading_pass::GbufferShadingPass;
-use crate::gpu_scene::GpuScene;
-use crate::shaders::ShaderError;
-use crate::targets::FrameTargets;
+use super::shading_pass::{GbufferShadingPass, ShadingKind};
+use crate::targets::{FrameTargets, Target};
 
 /// Fraction of the distance to a sampled light point that a shadow ray tests, so that the
 /// emitter does not occlude its own sample (the CPU reference's value).
@@ -29,40 +27,16 @@ pub struct DirectParams {
     pub lights: u32,
 }
 
+/// Selects the direct pass's shader and output.
+pub struct DirectKind;
+
+impl ShadingKind for DirectKind {
+    const NAME: &'static str = "direct";
+
+    fn output(targets: &FrameTargets) -> &Target {
+        &targets.direct
+    }
+}
+
 /// The direct-light pass.
-pub struct DirectPass {
-    pass: GbufferShadingPass,
-}
-
-impl DirectPass {
-    /// The pipeline for the scene's bind-group layout.
-    pub fn new(device: &wgpu::Device, scene: &GpuScene) -> Result<Self, ShaderError> {
-        Ok(Self {
-            pass: GbufferShadingPass::new(device, scene, "direct")?,
-        })
-    }
-
-    /// The pass's bind group over `targets`, the camera and the parameters.
-    pub fn bind_group(
-        &self,
-        device: &wgpu::Device,
-        targets: &FrameTargets,
-        camera: &wgpu::Buffer,
-        params: &wgpu::Buffer,
-    ) -> wgpu::BindGroup {
-        self.pass
-            .bind_group(device, targets, camera, params, &targets.direct.view)
-    }
-
-    /// Records the pass.
-    pub fn record(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        scene: &GpuScene,
-        group: &wgpu::BindGroup,
-        targets: &FrameTargets,
-        timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
-    ) {
-        self.pass.record(encoder, scene, group, targets, timestamps);
-    }
-}
+pub type DirectPass = GbufferShadingPass<DirectKind>;

@@ -6,10 +6,8 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::shading_pass::GbufferShadingPass;
-use crate::gpu_scene::GpuScene;
-use crate::shaders::ShaderError;
-use crate::targets::FrameTargets;
+use super::shading_pass::{GbufferShadingPass, ShadingKind};
+use crate::targets::{FrameTargets, Target};
 
 /// The pass's uniform (mirrored by `IndirectParams` in `shaders/indirect.wgsl`).
 #[repr(C)]
@@ -35,40 +33,16 @@ pub struct IndirectParams {
     pub pad: u32,
 }
 
+/// Selects the indirect pass's shader and output.
+pub struct IndirectKind;
+
+impl ShadingKind for IndirectKind {
+    const NAME: &'static str = "indirect";
+
+    fn output(targets: &FrameTargets) -> &Target {
+        &targets.indirect
+    }
+}
+
 /// The indirect-light pass.
-pub struct IndirectPass {
-    pass: GbufferShadingPass,
-}
-
-impl IndirectPass {
-    /// The pipeline for the scene's bind-group layout.
-    pub fn new(device: &wgpu::Device, scene: &GpuScene) -> Result<Self, ShaderError> {
-        Ok(Self {
-            pass: GbufferShadingPass::new(device, scene, "indirect")?,
-        })
-    }
-
-    /// The pass's bind group over `targets`, the camera and the parameters.
-    pub fn bind_group(
-        &self,
-        device: &wgpu::Device,
-        targets: &FrameTargets,
-        camera: &wgpu::Buffer,
-        params: &wgpu::Buffer,
-    ) -> wgpu::BindGroup {
-        self.pass
-            .bind_group(device, targets, camera, params, &targets.indirect.view)
-    }
-
-    /// Records the pass.
-    pub fn record(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        scene: &GpuScene,
-        group: &wgpu::BindGroup,
-        targets: &FrameTargets,
-        timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
-    ) {
-        self.pass.record(encoder, scene, group, targets, timestamps);
-    }
-}
+pub type IndirectPass = GbufferShadingPass<IndirectKind>;

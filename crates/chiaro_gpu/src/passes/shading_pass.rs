@@ -1,28 +1,35 @@
 //! What the `direct` and `indirect` passes share: a compute shader over the G-buffer, one
 //! invocation per pixel, with the scene in group 0 and, in group 1, the G-buffer's position,
-//! surface and emission targets, the camera, the pass's parameters and the HDR image it writes.
+//! surface and emission targets, the camera (`shaders/lib/gbuffer_inputs.wgsl`), the pass's
+//! parameters and the HDR image it writes.
+
+use std::marker::PhantomData;
 
 use wgpu::TextureSampleType as S;
 
 use crate::gpu_scene::GpuScene;
 use crate::shaders::ShaderError;
-use crate::targets::{FrameTargets, HDR_FORMAT};
+use crate::targets::{FrameTargets, HDR_FORMAT, Target};
 
-/// A compute pass that shades the G-buffer's pixels.
-pub(crate) struct GbufferShadingPass {
-    name: &'static str,
-    pipeline: wgpu::ComputePipeline,
-    layout: wgpu::BindGroupLayout,
+/// Which G-buffer shading pass: its shader and the image it writes.
+pub trait ShadingKind {
+    /// The pass's name: its shader is `shaders/NAME.wgsl`, its wgpu objects are labelled with it.
+    const NAME: &'static str;
+    /// The image the pass writes.
+    fn output(targets: &FrameTargets) -> &Target;
 }
 
-impl GbufferShadingPass {
-    /// The pipeline of `shaders/NAME.wgsl` for the scene's bind-group layout; its objects are
-    /// labelled with `name`.
-    pub(crate) fn new(
-        device: &wgpu::Device,
-        scene: &GpuScene,
-        name: &'static str,
-    ) -> Result<Self, ShaderError> {
+/// A compute pass that shades the G-buffer's pixels (see [`ShadingKind`]).
+pub struct GbufferShadingPass<K> {
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+    kind: PhantomData<K>,
+}
+
+impl<K: ShadingKind> GbufferShadingPass<K> {
+    /// The pipeline for the scene's bind-group layout.
+    pub fn new(device: &wgpu::Device, scene: &GpuScene) -> Result<Self, ShaderError> {
+        let name = K::NAME;
         use super::{compute_entry as e, texture, uniform};
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some(&format!("{name} layout")),
@@ -42,27 +49,26 @@ impl GbufferShadingPass {
             &[Some(scene.layout()), Some(&layout)],
         )?;
         Ok(Self {
-            name,
             pipeline,
             layout,
+            kind: PhantomData,
         })
     }
 
-    /// The bind group over the G-buffer of `targets`, the camera, the parameters and `output`.
-    pub(crate) fn bind_group(
+    /// The pass's bind group over `targets`, the camera and the parameters.
+    pub fn bind_group(
         &self,
         device: &wgpu::Device,
         targets: &FrameTargets,
         camera: &wgpu::Buffer,
         params: &wgpu::Buffer,
-        output: &wgpu::TextureView,
     ) -> wgpu::BindGroup {
         let view = |binding, view| wgpu::BindGroupEntry {
             binding,
             resource: wgpu::BindingResource::TextureView(view),
         };
         device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some(&format!("{} bind group", self.name)),
+            label: Some(&format!("{} bind group", K::NAME)),
             layout: &self.layout,
             entries: &[
                 view(0, &targets.position.view),
@@ -76,13 +82,13 @@ impl GbufferShadingPass {
                     binding: 4,
                     resource: params.as_entire_binding(),
                 },
-                view(5, output),
+                view(5, &K::output(targets).view),
             ],
         })
     }
 
     /// Records the pass (nothing while the scene has no bind group).
-    pub(crate) fn record(
+    pub fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         scene: &GpuScene,
@@ -94,7 +100,7 @@ impl GbufferShadingPass {
             return;
         };
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some(&format!("{} pass", self.name)),
+            label: Some(&format!("{} pass", K::NAME)),
             timestamp_writes: timestamps,
         });
         pass.set_pipeline(&self.pipeline);
