@@ -1,4 +1,5 @@
-// Direct light per pixel of the G-buffer, one frame's estimate: the emission seen, every
+// Direct light per pixel of the G-buffer, one frame's estimate of the light the surface seen
+// reflects (its own emission is the composite's to add): every
 // punctual light (or one picked by power when there are more than ALL_PUNCTUAL_LIGHTS_MAX),
 // one area-light sample (an emissive triangle or the environment, picked by power) and one
 // BRDF sample, the last two combined by multiple importance sampling with the power
@@ -58,7 +59,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let g = gbuffer_unpack(texels);
-    var radiance = g.emission;
+    var radiance = vec3<f32>(0.0);
     if g.shades && params.lights != 0u {
         let s = gbuffer_shading(g, camera);
         let index = id.y * size.x + id.x;

@@ -1,6 +1,6 @@
 //! `direct`: one frame's direct-light estimate per pixel from the G-buffer (see
-//! `shaders/direct.wgsl`): emission, punctual lights, one MIS-weighted area-light sample and
-//! one BRDF sample, each light sample with one shadow ray.
+//! `shaders/direct.wgsl`): the light the surface reflects from punctual lights, one
+//! MIS-weighted area-light sample and one BRDF sample, each light sample with one shadow ray.
 
 use bytemuck::{Pod, Zeroable};
 
