@@ -5,6 +5,7 @@ pub mod composite;
 pub mod direct;
 pub mod gbuffer;
 pub mod indirect;
+pub mod shading_pass;
 pub mod tonemap;
 
 use crate::shaders::{self, ShaderError};
