@@ -3,20 +3,23 @@
 //!
 //! - No mode writes a non-finite pixel in any case: not in the final image, and not in the
 //!   direct or indirect light before the composite's guard.
-//! - The GPU reference mode agrees with the CPU reference case by case: linear HDR relMSE below
-//!   3 x the two images' combined own noise (both measured: the GPU's from two seeds, the CPU's
-//!   from its two halves), the bound of `direct_image.rs`.
+//! - (`hard_cases_reference.rs`: the GPU and CPU references agree case by case.)
 //! - The white furnace (exact radiance 1): the reference mode's mean is 1 within 2%; the
 //!   realtime mode with a bounce cap of b gathers light at b + 1 surfaces of albedo 0.5 over an
 //!   emission of 0.5, so its mean is 1 - 0.5^(b + 2) (0.9375 at the default cap of 2), within 2%.
 //! - The copy of the lit group 1e5 units from the origin renders like the original: relMSE
-//!   between the two GPU reference images below 3 x their combined noise.
+//!   between the two GPU reference images below 3 x their combined noise (measured at 24x24,
+//!   64 frames of 4 paths: 1.4e-2 against a noise of 5.8e-2).
+//!
+//! Frame counts are kept low, and paths per pixel raised instead, because lavapipe (Mesa 22's
+//! CPU Vulkan) keeps about 6 MB of host memory per dispatch of a pass that traces rays until
+//! the process ends (llvmpipe's GL does not): a few thousand frames in one test binary would
+//! exhaust a 24 GB machine.
 
 mod common;
 
 use bevy_ecs::prelude::{Entity, Name, World};
 use chiaro_gpu::{FrameSettings, RenderMode, RenderSettings, Renderer};
-use chiaro_reference::{PathSettings, render_world};
 use chiaro_scene::builtin::HARD_CASES;
 use chiaro_scene::{ActiveCamera, Camera, load_scene};
 use glam::Vec3;
@@ -94,51 +97,6 @@ fn no_mode_writes_a_non_finite_pixel_in_any_case() {
 }
 
 #[test]
-fn gpu_and_cpu_references_agree_case_by_case() {
-    let Some(gpu) = common::gpu() else { return };
-    let (size, frames) = (24, 128);
-    let mut world = World::new();
-    load_scene(&mut world, "builtin:hard-cases").unwrap();
-    let mut renderer = Renderer::new(gpu);
-    let mut failures = Vec::new();
-    for case in HARD_CASES {
-        view_case(&mut world, case);
-        let cpu = render_world(
-            &mut world,
-            &chiaro_reference::RenderSettings {
-                width: size,
-                height: size,
-                spp: 256,
-                seed: 7,
-                threads: None,
-                path: PathSettings::default(),
-            },
-            false,
-        )
-        .unwrap();
-        let cpu_noise = cpu.halves_rel_mse() / 4.0;
-        let reference = mode(RenderMode::Reference);
-        let a = renderer
-            .render(&mut world, &settings(size, frames, 1, reference))
-            .unwrap();
-        let b = renderer
-            .render(&mut world, &settings(size, frames, 2, reference))
-            .unwrap();
-        let gpu_noise = rel_mse(&a.hdr, &b.hdr) / 2.0;
-        let error = rel_mse(&a.hdr, &cpu.image);
-        let bound = 3.0 * (gpu_noise + cpu_noise);
-        eprintln!(
-            "{case}: relMSE {error:.3e}, bound {bound:.3e} (GPU noise {gpu_noise:.2e}, CPU \
-             noise {cpu_noise:.2e})"
-        );
-        if error >= bound {
-            failures.push(format!("{case}: relMSE {error:.3e} against {bound:.3e}"));
-        }
-    }
-    assert!(failures.is_empty(), "{failures:?}");
-}
-
-#[test]
 fn furnace_radiance_is_one_less_what_the_bounce_cap_drops() {
     let Some(gpu) = common::gpu() else { return };
     let mut world = World::new();
@@ -181,11 +139,14 @@ fn furnace_radiance_is_one_less_what_the_bounce_cap_drops() {
 #[test]
 fn far_copy_renders_like_the_original() {
     let Some(gpu) = common::gpu() else { return };
-    let (size, frames) = (24, 128);
+    let (size, frames) = (24, 64);
     let mut world = World::new();
     load_scene(&mut world, "builtin:hard-cases").unwrap();
     let mut renderer = Renderer::new(gpu);
-    let reference = mode(RenderMode::Reference);
+    let reference = FrameSettings {
+        spp: 4,
+        ..mode(RenderMode::Reference)
+    };
     let mut images = Vec::new();
     for case in ["lit-group", "far-copy"] {
         view_case(&mut world, case);
