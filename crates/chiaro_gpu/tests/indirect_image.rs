@@ -45,19 +45,6 @@ use chiaro_reference::{PathSettings, render_world};
 use chiaro_scene::{Environment, load_scene};
 use glam::Vec3;
 
-/// relMSE as DESIGN.md defines it: mean((x - y)^2 / (y^2 + 0.01)) over pixels and channels.
-fn rel_mse(x: &[Vec3], y: &[Vec3]) -> f64 {
-    let sum: f64 = x
-        .iter()
-        .zip(y)
-        .map(|(a, b)| {
-            let d = (*a - *b) * (*a - *b) / (*b * *b + Vec3::splat(0.01));
-            f64::from(d.x + d.y + d.z)
-        })
-        .sum();
-    sum / (3 * x.len()) as f64
-}
-
 fn world(scene: &str, env: Option<&Path>) -> World {
     let mut world = World::new();
     load_scene(&mut world, scene).unwrap();
@@ -175,7 +162,7 @@ fn rel_mse_where(x: &[Vec3], y: &[Vec3], keep: &[bool]) -> f64 {
         .filter(|(_, k)| **k)
         .map(|(p, _)| p)
         .unzip();
-    rel_mse(&x, &y)
+    common::rel_mse(&x, &y)
 }
 
 /// The pixels a comparison trusts: all but the `TRIMMED` fraction whose reference halves
@@ -292,55 +279,41 @@ fn mode(mode: RenderMode, spp: u32, bounces: u32) -> FrameSettings {
     }
 }
 
+/// Checks 32 frames of `frame` (32x32) against the full CPU reference at `reference_spp`.
+fn full_paths_converge(
+    name: &str,
+    scene: &str,
+    env: Option<&Path>,
+    reference_spp: u32,
+    frame: FrameSettings,
+) {
+    let reference = cpu_reference(scene, env, 32, reference_spp, 64);
+    if let Some(gpu) = gpu_images(scene, env, 32, 32, frame) {
+        check(name, &gpu, &reference, 3.0);
+    }
+}
+
 /// Reference mode on the Cornell box against the CPU reference at max_depth 64.
 #[test]
 fn reference_mode_converges_on_the_cornell_box() {
-    let reference = cpu_reference("builtin:cornell", None, 32, 512, 64);
-    let Some(gpu) = gpu_images(
-        "builtin:cornell",
-        None,
-        32,
-        32,
-        mode(RenderMode::Reference, 8, 2),
-    ) else {
-        return;
-    };
-    check("cornell reference", &gpu, &reference, 3.0);
+    let frame = mode(RenderMode::Reference, 8, 2);
+    full_paths_converge("cornell reference", "builtin:cornell", None, 512, frame);
 }
 
 /// Reference mode on the normal-mapped model under the sky.
 #[test]
 fn reference_mode_converges_on_a_model_under_the_sky() {
-    let Some((model, sky)) = shared_model() else {
-        return;
-    };
-    let reference = cpu_reference(&model, Some(&sky), 32, 256, 64);
-    let Some(gpu) = gpu_images(
-        &model,
-        Some(&sky),
-        32,
-        32,
-        mode(RenderMode::Reference, 8, 2),
-    ) else {
-        return;
-    };
-    check("model reference", &gpu, &reference, 3.0);
+    if let Some((model, sky)) = shared_model() {
+        let frame = mode(RenderMode::Reference, 8, 2);
+        full_paths_converge("model reference", &model, Some(&sky), 256, frame);
+    }
 }
 
 /// Naive mode on the Cornell box.
 #[test]
 fn naive_mode_converges_on_the_cornell_box() {
-    let reference = cpu_reference("builtin:cornell", None, 32, 512, 64);
-    let Some(gpu) = gpu_images(
-        "builtin:cornell",
-        None,
-        32,
-        32,
-        mode(RenderMode::Naive, 32, 2),
-    ) else {
-        return;
-    };
-    check("cornell naive", &gpu, &reference, 3.0);
+    let frame = mode(RenderMode::Naive, 32, 2);
+    full_paths_converge("cornell naive", "builtin:cornell", None, 512, frame);
 }
 
 /// The realtime mode's bounce cap b (denoiser off) is the CPU reference at max_depth b + 1;
