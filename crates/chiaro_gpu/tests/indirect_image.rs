@@ -33,7 +33,7 @@
 //!   bound 6.4e-3 (emitter-edge noise dominates relMSE at 32x32) but -73 -62 -39 standard
 //!   errors (interior sums 70.5 and 82.8 in red; 94.9 uncapped).
 //!
-//! The whole file takes 2.3 minutes on lavapipe (two cores, beside another test binary).
+//! The whole file takes 2.7 minutes on lavapipe (two shared cores; 159 s of tests).
 
 mod common;
 
