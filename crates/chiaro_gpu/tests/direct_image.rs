@@ -33,19 +33,6 @@ use chiaro_reference::{PathSettings, render_world};
 use chiaro_scene::{AlphaMode, Environment, Materials, MeshInstance, load_scene};
 use glam::Vec3;
 
-/// relMSE as DESIGN.md defines it: mean((x - y)^2 / (y^2 + 0.01)) over pixels and channels.
-fn rel_mse(x: &[Vec3], y: &[Vec3]) -> f64 {
-    let sum: f64 = x
-        .iter()
-        .zip(y)
-        .map(|(a, b)| {
-            let d = (*a - *b) * (*a - *b) / (*b * *b + Vec3::splat(0.01));
-            f64::from(d.x + d.y + d.z)
-        })
-        .sum();
-    sum / (3 * x.len()) as f64
-}
-
 /// Gives the Cornell box's tall block a copy of its material with alpha 0.25 under an alpha
 /// mask of cutoff 0.5: the block is a hole for the rasterizer, the shadow rays and the BRDF
 /// rays alike.
@@ -144,7 +131,7 @@ fn compare(
             .accumulate(&mut gpu_world, &settings, more)
             .unwrap();
         out = renderer.read(&settings).unwrap();
-        errors.push((total, rel_mse(&out.hdr, &reference.image)));
+        errors.push((total, common::rel_mse(&out.hdr, &reference.image)));
     }
     let other = RenderSettings {
         frames: out.frames,
@@ -153,7 +140,7 @@ fn compare(
     };
     let mut other_world = world(scene, env, edit);
     let second = renderer.render(&mut other_world, &other).unwrap();
-    let gpu_noise = rel_mse(&out.hdr, &second.hdr) / 2.0;
+    let gpu_noise = common::rel_mse(&out.hdr, &second.hdr) / 2.0;
     let clip = 1.0;
     let (mut gpu_sum, mut ref_sum, mut variance) = (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
     for (i, (a, b)) in out.hdr.iter().zip(&reference.image).enumerate() {
