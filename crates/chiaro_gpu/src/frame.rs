@@ -22,7 +22,7 @@ use crate::passes::direct::{DirectParams, DirectPass};
 use crate::passes::gbuffer::GbufferPass;
 use crate::passes::indirect::{IndirectParams, IndirectPass};
 use crate::passes::tonemap::{TonemapParams, TonemapPass};
-use crate::settings::{FrameSettings, MAX_BOUNCES, RenderMode};
+use crate::settings::{FrameSettings, REFERENCE_BOUNCES, RenderMode};
 use crate::shaders::ShaderError;
 use crate::targets::FrameTargets;
 use crate::timing::{PassTimer, PassTimes};
@@ -192,7 +192,7 @@ impl Frame {
             bounces: if s.mode == RenderMode::Realtime {
                 s.bounces
             } else {
-                MAX_BOUNCES
+                REFERENCE_BOUNCES
             },
             naive: u32::from(naive),
             poison: u32::from(input.poison),

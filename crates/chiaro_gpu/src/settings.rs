@@ -9,6 +9,10 @@ use thiserror::Error;
 pub const MAX_SPP: u32 = 64;
 /// Most indirect bounces [`FrameSettings::validate`] accepts.
 pub const MAX_BOUNCES: u32 = 64;
+/// The bounce cap of the reference and naive modes' paths (Russian roulette ends nearly all
+/// of them long before): 63 bounces after the surface the camera sees, the 64 scattering
+/// surfaces of the CPU reference's default depth.
+pub const REFERENCE_BOUNCES: u32 = 63;
 
 /// What each frame computes (one pipeline; the modes differ in which passes run).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -104,7 +108,7 @@ pub struct FrameSettings {
     /// Indirect bounces of the realtime mode: light is gathered at up to `bounces` surfaces
     /// after the one the camera sees (1 is one-bounce global illumination). Higher: less
     /// energy lost (a darker image is the bias of a low cap), more time. Reference and naive
-    /// paths end by Russian roulette only (at most [`MAX_BOUNCES`]).
+    /// paths end by Russian roulette (at most [`REFERENCE_BOUNCES`]).
     pub bounces: u32,
     /// The realtime mode's denoiser.
     pub denoise: DenoiseSettings,

@@ -24,19 +24,6 @@ use chiaro_scene::builtin::HARD_CASES;
 use chiaro_scene::{ActiveCamera, Camera, load_scene};
 use glam::Vec3;
 
-/// relMSE as DESIGN.md defines it: mean((x - y)^2 / (y^2 + 0.01)) over pixels and channels.
-fn rel_mse(x: &[Vec3], y: &[Vec3]) -> f64 {
-    let sum: f64 = x
-        .iter()
-        .zip(y)
-        .map(|(a, b)| {
-            let d = (*a - *b) * (*a - *b) / (*b * *b + Vec3::splat(0.01));
-            f64::from(d.x + d.y + d.z)
-        })
-        .sum();
-    sum / (3 * x.len()) as f64
-}
-
 /// Makes the camera of `case` the active one.
 fn view_case(world: &mut World, case: &str) {
     let name = format!("{case} camera");
@@ -157,8 +144,9 @@ fn far_copy_renders_like_the_original() {
             images.push(out.hdr);
         }
     }
-    let noise = (rel_mse(&images[0], &images[1]) + rel_mse(&images[2], &images[3])) / 2.0;
-    let error = rel_mse(&images[2], &images[0]);
+    let noise =
+        (common::rel_mse(&images[0], &images[1]) + common::rel_mse(&images[2], &images[3])) / 2.0;
+    let error = common::rel_mse(&images[2], &images[0]);
     eprintln!("far copy against the original: relMSE {error:.3e}, noise {noise:.3e}");
     assert!(error < 3.0 * noise, "relMSE {error} against noise {noise}");
 }

@@ -20,20 +20,6 @@ use chiaro_gpu::{FrameSettings, RenderMode, RenderSettings, Renderer};
 use chiaro_reference::{PathSettings, render_world};
 use chiaro_scene::builtin::HARD_CASES;
 use chiaro_scene::{ActiveCamera, Camera, load_scene};
-use glam::Vec3;
-
-/// relMSE as DESIGN.md defines it: mean((x - y)^2 / (y^2 + 0.01)) over pixels and channels.
-fn rel_mse(x: &[Vec3], y: &[Vec3]) -> f64 {
-    let sum: f64 = x
-        .iter()
-        .zip(y)
-        .map(|(a, b)| {
-            let d = (*a - *b) * (*a - *b) / (*b * *b + Vec3::splat(0.01));
-            f64::from(d.x + d.y + d.z)
-        })
-        .sum();
-    sum / (3 * x.len()) as f64
-}
 
 /// Makes the camera of `case` the active one.
 fn view_case(world: &mut World, case: &str) {
@@ -99,8 +85,8 @@ fn gpu_and_cpu_references_agree_case_by_case() {
         let b = renderer
             .render(&mut world, &settings(size, frames, 2, reference))
             .unwrap();
-        let gpu_noise = rel_mse(&a.hdr, &b.hdr) / 2.0;
-        let error = rel_mse(&a.hdr, &cpu.image);
+        let gpu_noise = common::rel_mse(&a.hdr, &b.hdr) / 2.0;
+        let error = common::rel_mse(&a.hdr, &cpu.image);
         let bound = 3.0 * (gpu_noise + cpu_noise);
         eprintln!(
             "{case}: relMSE {error:.3e}, bound {bound:.3e} (GPU noise {gpu_noise:.2e}, CPU \
