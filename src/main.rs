@@ -68,8 +68,8 @@ enum Command {
         /// Image size, WxH.
         #[arg(long, default_value = "512x512", value_parser = parse_size)]
         size: (u32, u32),
-        /// Frames to accumulate.
-        #[arg(long, default_value_t = 64)]
+        /// Frames to render (the realtime image is the last; the other modes average them).
+        #[arg(long, default_value_t = 16)]
         frames: u32,
         /// Output file, .png or .exr.
         #[arg(long, default_value = "chiaro.png")]

@@ -74,3 +74,16 @@ fn render_refuses_an_unknown_output_format() {
         "{text}"
     );
 }
+
+#[test]
+fn render_refuses_settings_out_of_range() {
+    for (flag, value, name) in [("--spp", "0", "spp"), ("--bounces", "65", "bounces")] {
+        let out = chiaro(&["render", "--size", "8x8", flag, value, "--out", "x.png"]);
+        assert!(!out.status.success());
+        let text = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            text.contains(&format!("frame setting {name} = {value} is out of range")),
+            "{text}"
+        );
+    }
+}
