@@ -123,7 +123,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let depth = view_depth(s.position);
     let slope = vec2<f32>(depth_slope(p, vec2<i32>(1, 0), depth, size),
         depth_slope(p, vec2<i32>(0, 1), depth, size));
-    textureStore(edges_out, p, vec4<f32>(depth, slope, bitcast<f32>(texels.surface.y)));
+    textureStore(edges_out, p, vec4<f32>(depth, slope, denoise_normal_encode(s.shading_normal)));
     let lighting = light / demodulation_albedo(s.base_color);
     textureStore(lighting_out, p, vec4<f32>(lighting, 0.0));
 

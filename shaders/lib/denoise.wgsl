@@ -28,15 +28,30 @@ const DENOISE_SHORT_HISTORY: f32 = 4.0;
 
 // The edge texel (rgba32float) of a pixel the temporal pass writes: view depth (negative where
 // the pixel is not a covered, shading surface: its lighting passes through unfiltered), the
-// depth gradient per pixel in x and y, and the octahedral shading normal's bits.
+// depth gradient per pixel in x and y, and the shading normal (denoise_normal_encode).
 struct DenoiseEdge {
     depth: f32,
     gradient: vec2<f32>,
     normal: vec3<f32>,
 }
 
+// A unit normal as one float: octahedral coordinates (as the G-buffer's) quantized to 12 bits
+// each, held as an integer below 2^24, so it is exact in f32 (raw bits could be a denormal,
+// which a device may flush to zero).
+fn denoise_normal_encode(n: vec3<f32>) -> f32 {
+    let f = unpack2x16snorm(octahedral_encode(n));
+    let u = vec2<u32>(round((f * 0.5 + 0.5) * 4095.0));
+    return f32(u.x + u.y * 4096u);
+}
+
+fn denoise_normal_decode(x: f32) -> vec3<f32> {
+    let u = u32(x);
+    let f = vec2<f32>(vec2<u32>(u & 4095u, u >> 12u)) / 4095.0 * 2.0 - 1.0;
+    return octahedral_decode(pack2x16snorm(f));
+}
+
 fn denoise_edge_decode(t: vec4<f32>) -> DenoiseEdge {
-    return DenoiseEdge(t.x, t.yz, octahedral_decode(bitcast<u32>(t.w)));
+    return DenoiseEdge(t.x, t.yz, denoise_normal_decode(t.w));
 }
 
 // Whether the pixel's lighting is filtered (a covered surface that shades).

@@ -105,9 +105,27 @@ impl Denoiser {
             mapped_at_creation: false,
         });
         let previous = [
-            Target::new(device, "denoise previous position", POSITION_FORMAT, size, copy),
-            Target::new(device, "denoise previous surface", SURFACE_FORMAT, size, copy),
-            Target::new(device, "denoise previous emission", EMISSION_FORMAT, size, copy),
+            Target::new(
+                device,
+                "denoise previous position",
+                POSITION_FORMAT,
+                size,
+                copy,
+            ),
+            Target::new(
+                device,
+                "denoise previous surface",
+                SURFACE_FORMAT,
+                size,
+                copy,
+            ),
+            Target::new(
+                device,
+                "denoise previous emission",
+                EMISSION_FORMAT,
+                size,
+                copy,
+            ),
         ];
         let color_history = hdr("denoise colour history");
         let moments_history = hdr("denoise moments history");
@@ -155,9 +173,8 @@ impl Denoiser {
                 } else {
                     &ping[(i - 1) % 2].view
                 };
-                let group = |out| {
-                    atrous.bind_group(device, binding(i as u64), [input, &edges.view, out])
-                };
+                let group =
+                    |out| atrous.bind_group(device, binding(i as u64), [input, &edges.view, out]);
                 [group(&ping[i % 2].view), group(&output.view)]
             })
             .collect();

@@ -160,7 +160,11 @@ impl FrameSettings {
             return fail("temporal_floor", d.temporal_floor.to_string(), "in (0, 1]");
         }
         if d.atrous_iterations > 10 {
-            return fail("atrous_iterations", d.atrous_iterations.to_string(), "0..=10");
+            return fail(
+                "atrous_iterations",
+                d.atrous_iterations.to_string(),
+                "0..=10",
+            );
         }
         for (name, value) in [
             ("sigma_depth", d.sigma_depth),

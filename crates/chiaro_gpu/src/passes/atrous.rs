@@ -43,12 +43,15 @@ impl AtrousPass {
             binding: 0,
             resource: wgpu::BindingResource::Buffer(params),
         }];
-        entries.extend(views.iter().zip(1..).map(|(view, binding)| {
-            wgpu::BindGroupEntry {
-                binding,
-                resource: wgpu::BindingResource::TextureView(view),
-            }
-        }));
+        entries.extend(
+            views
+                .iter()
+                .zip(1..)
+                .map(|(view, binding)| wgpu::BindGroupEntry {
+                    binding,
+                    resource: wgpu::BindingResource::TextureView(view),
+                }),
+        );
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("atrous bind group"),
             layout: &self.layout,

@@ -40,7 +40,12 @@ impl TemporalPass {
     pub fn new(device: &wgpu::Device) -> Result<Self, ShaderError> {
         use super::{compute_entry as e, storage_texture, texture, uniform};
         let float = || texture(S::Float { filterable: false });
-        let mut entries = vec![e(0, uniform()), e(1, uniform()), e(2, float()), e(3, float())];
+        let mut entries = vec![
+            e(0, uniform()),
+            e(1, uniform()),
+            e(2, float()),
+            e(3, float()),
+        ];
         entries.extend((4..=10).map(|b| e(b, texture(S::Uint))));
         entries.extend([e(11, float()), e(12, float())]);
         entries.extend((13..=16).map(|b| e(b, storage_texture(HDR_FORMAT))));
@@ -91,12 +96,15 @@ impl TemporalPass {
                 resource: wgpu::BindingResource::Buffer(r.params.clone()),
             },
         ];
-        entries.extend(views.iter().zip(2..).map(|(view, binding)| {
-            wgpu::BindGroupEntry {
-                binding,
-                resource: wgpu::BindingResource::TextureView(view),
-            }
-        }));
+        entries.extend(
+            views
+                .iter()
+                .zip(2..)
+                .map(|(view, binding)| wgpu::BindGroupEntry {
+                    binding,
+                    resource: wgpu::BindingResource::TextureView(view),
+                }),
+        );
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("temporal bind group"),
             layout: &self.layout,

@@ -49,12 +49,15 @@ impl VariancePass {
             binding: 0,
             resource: wgpu::BindingResource::Buffer(params),
         }];
-        entries.extend(views.iter().zip(1..).map(|(view, binding)| {
-            wgpu::BindGroupEntry {
-                binding,
-                resource: wgpu::BindingResource::TextureView(view),
-            }
-        }));
+        entries.extend(
+            views
+                .iter()
+                .zip(1..)
+                .map(|(view, binding)| wgpu::BindGroupEntry {
+                    binding,
+                    resource: wgpu::BindingResource::TextureView(view),
+                }),
+        );
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("variance bind group"),
             layout: &self.layout,
