@@ -1,4 +1,5 @@
-// Direct light per pixel of the G-buffer, one frame's estimate: the emission seen, every
+// Direct light per pixel of the G-buffer, one frame's estimate of the light the surface seen
+// reflects (its own emission is the composite's to add): every
 // punctual light (or one picked by power when there are more than ALL_PUNCTUAL_LIGHTS_MAX),
 // one area-light sample (an emissive triangle or the environment, picked by power) and one
 // BRDF sample, the last two combined by multiple importance sampling with the power
@@ -27,7 +28,8 @@ struct DirectParams {
     frame: u32,
     seed_lo: u32,
     seed_hi: u32,
-    pad: u32,
+    // 0 in naive mode: no light sampling, covered pixels reflect nothing here.
+    lights: u32,
 }
 
 @group(1) @binding(0) var gbuffer_position: texture_2d<u32>;
@@ -273,8 +275,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let g = gbuffer_unpack(texels);
-    var radiance = g.emission;
-    if g.shades {
+    var radiance = vec3<f32>(0.0);
+    if g.shades && params.lights != 0u {
         let material = scene_materials[bvh_instances[g.instance].material];
         var s: Shading;
         s.position = g.position;

@@ -11,6 +11,7 @@ use bevy_ecs::world::World;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use glam::Vec3;
 
+use chiaro::gpu::{FrameSettings, RenderMode};
 use chiaro::reference::{
     LightSampling, PathSettings, RenderSettings, render_world, write_exr, write_png,
 };
@@ -73,9 +74,8 @@ enum Command {
         /// Output file, .png or .exr.
         #[arg(long, default_value = "chiaro.png")]
         out: PathBuf,
-        /// What the frame computes.
-        #[arg(long, value_enum, default_value_t = Mode::Direct)]
-        mode: Mode,
+        #[command(flatten)]
+        frame: FrameArgs,
         /// Seed of the random numbers.
         #[arg(long, default_value_t = 0)]
         seed: u64,
@@ -124,8 +124,58 @@ enum Command {
 /// What `chiaro render` computes per frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 enum Mode {
-    /// Emission and direct light with shadow rays (MIS for area lights and the environment).
+    /// Direct and indirect light, temporal accumulation and a-trous denoising: the real-time
+    /// frame (the last frame is the image).
+    Realtime,
+    /// Progressive unbiased path tracing on the GPU, the mean of the frames.
+    Reference,
+    /// Pure path tracing with uniform hemisphere directions and no light sampling (the
+    /// baseline), the mean of the frames.
+    Naive,
+    /// Emission and direct light with shadow rays (MIS for area lights and the environment),
+    /// the mean of the frames.
     Direct,
+}
+
+impl From<Mode> for RenderMode {
+    fn from(mode: Mode) -> Self {
+        match mode {
+            Mode::Realtime => RenderMode::Realtime,
+            Mode::Reference => RenderMode::Reference,
+            Mode::Naive => RenderMode::Naive,
+            Mode::Direct => RenderMode::Direct,
+        }
+    }
+}
+
+/// What each frame of `chiaro render` computes.
+#[derive(Args)]
+struct FrameArgs {
+    /// What the frame computes.
+    #[arg(long, value_enum, default_value_t = Mode::Realtime)]
+    mode: Mode,
+    /// Indirect paths per pixel per frame (1..=64).
+    #[arg(long, default_value_t = 1)]
+    spp: u32,
+    /// Surfaces after the first at which a realtime path gathers light (1..=64).
+    #[arg(long, default_value_t = 2)]
+    bounces: u32,
+    /// Turns the realtime mode's denoiser (temporal, variance, a-trous) off.
+    #[arg(long)]
+    no_denoise: bool,
+}
+
+impl FrameArgs {
+    fn settings(&self) -> FrameSettings {
+        let mut settings = FrameSettings {
+            mode: self.mode.into(),
+            spp: self.spp,
+            bounces: self.bounces,
+            ..FrameSettings::default()
+        };
+        settings.denoise.enabled = !self.no_denoise;
+        settings
+    }
 }
 
 fn parse_size(text: &str) -> Result<(u32, u32), String> {
@@ -153,7 +203,7 @@ fn main() -> Result<()> {
             size,
             frames,
             out,
-            mode,
+            frame,
             seed,
         } => {
             let scene = SceneArgs {
@@ -161,7 +211,7 @@ fn main() -> Result<()> {
                 env,
                 env_strength,
             };
-            render(&scene, size, frames, &out, mode, seed)
+            render(&scene, size, frames, &out, frame.settings(), seed)
         }
         Command::Compare(args) => compare::run(&args),
         Command::Bench(args) => bench::run(&args),
@@ -251,7 +301,7 @@ fn render(
     size: (u32, u32),
     frames: u32,
     out: &Path,
-    mode: Mode,
+    frame: FrameSettings,
     seed: u64,
 ) -> Result<()> {
     let exr = match out.extension().and_then(|e| e.to_str()) {
@@ -259,7 +309,7 @@ fn render(
         Some("png") => false,
         _ => bail!("{}: the output must end in .png or .exr", out.display()),
     };
-    let Mode::Direct = mode;
+    frame.validate()?;
     let mut world = load(args)?;
     let context = chiaro::gpu::GpuContext::new_headless()?;
     let adapter = context.describe();
@@ -269,8 +319,7 @@ fn render(
         height: size.1,
         frames: frames.max(1),
         seed,
-        tonemapper: Tonemapper::PbrNeutral,
-        exposure: 1.0,
+        frame,
     };
     let start = Instant::now();
     let output = renderer
@@ -287,8 +336,11 @@ fn render(
     }
     println!("wrote {}", out.display());
     println!(
-        "{}x{}, {} frames in {seconds:.2} s on {adapter}",
-        output.width, output.height, output.frames
+        "{}x{}, {} frames of {} in {seconds:.2} s on {adapter}",
+        output.width,
+        output.height,
+        output.times.len(),
+        frame.mode.name()
     );
     let timed = &output.times[output.times.len() / 2..];
     let clock = match timed.first() {

@@ -51,3 +51,17 @@ pub fn gpu_missing(out: &std::process::Output) -> bool {
     }
     missing
 }
+
+/// A GPU context for a test, or `None` (after a message) when this machine has no adapter.
+/// With the environment variable `CI` set, a missing or unusable adapter fails the test.
+pub fn gpu() -> Option<chiaro::gpu::GpuContext> {
+    use chiaro::gpu::{ContextError, GpuContext};
+    match GpuContext::new_headless() {
+        Ok(context) => Some(context),
+        Err(e @ ContextError::NoAdapter { .. }) if std::env::var_os("CI").is_none() => {
+            eprintln!("skipped: {e}");
+            None
+        }
+        Err(e) => panic!("no usable GPU adapter: {e}"),
+    }
+}

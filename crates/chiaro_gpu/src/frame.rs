@@ -1,27 +1,72 @@
-//! One frame, top-down: the passes in the order they run, with their uniforms and bind
-//! groups, timed per pass.
+//! One frame, top-down: the passes in the order they run, which of them each mode runs, their
+//! uniforms and bind groups, timed per pass.
 //!
 //! 1. `gbuffer` (raster): position, normals, material, emission, instance id, motion vectors,
 //!    depth.
-//! 2. `direct` (compute): emission + direct light with shadow rays, this frame's estimate.
-//! 3. `composite` (compute): the running mean over frames, the linear HDR image.
-//! 4. `tonemap` (compute): the HDR image to 8-bit sRGB.
-
-use chiaro_shading::tonemap::Tonemapper;
+//! 2. `direct` (compute): the direct light the surface seen reflects (light samples with shadow
+//!    rays, MIS with BRDF samples); the environment where no surface is seen.
+//! 3. `indirect` (compute): `spp` paths from the surface seen, the light they gather after the
+//!    first bounce (naive mode: all reflected light, by uniform hemisphere sampling).
+//! 4. `temporal`, `variance`, `atrous` (compute; realtime mode with the denoiser on): the
+//!    lighting demodulated by albedo, reprojected and accumulated, its variance estimated, and
+//!    filtered edge-aware.
+//! 5. `composite` (compute): emission plus reflected light; in every mode but realtime, the
+//!    running mean over frames; the linear HDR image.
+//! 6. `tonemap` (compute): the HDR image to 8-bit sRGB.
 
 use crate::camera::GpuCamera;
 use crate::context::GpuContext;
 use crate::gpu_scene::GpuScene;
-use crate::passes::composite::{CompositeParams, CompositePass};
+use crate::passes::composite::{COMPOSITE_DIRECT, COMPOSITE_PATHS, CompositeParams, CompositePass};
 use crate::passes::direct::{DirectParams, DirectPass};
 use crate::passes::gbuffer::GbufferPass;
+use crate::passes::indirect::{IndirectParams, IndirectPass};
 use crate::passes::tonemap::{TonemapParams, TonemapPass};
+use crate::settings::{FrameSettings, MAX_BOUNCES, RenderMode};
 use crate::shaders::ShaderError;
 use crate::targets::FrameTargets;
 use crate::timing::{PassTimer, PassTimes};
 
-/// The passes in the order they run.
-pub const PASSES: [&str; 4] = ["gbuffer", "direct", "composite", "tonemap"];
+/// A pass of the frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pass {
+    /// Rasterized G-buffer.
+    Gbuffer,
+    /// Direct light with shadow rays.
+    Direct,
+    /// Indirect paths.
+    Indirect,
+    /// Composite and accumulation.
+    Composite,
+    /// Tonemapping.
+    Tonemap,
+}
+
+impl Pass {
+    /// The pass's name (its file names and its entry in [`PassTimes`]).
+    pub fn name(self) -> &'static str {
+        match self {
+            Pass::Gbuffer => "gbuffer",
+            Pass::Direct => "direct",
+            Pass::Indirect => "indirect",
+            Pass::Composite => "composite",
+            Pass::Tonemap => "tonemap",
+        }
+    }
+}
+
+/// Most passes a frame runs.
+const MAX_PASSES: u32 = 8;
+
+/// The passes a frame of `settings` runs, in order.
+pub fn passes(settings: &FrameSettings) -> Vec<Pass> {
+    let mut passes = vec![Pass::Gbuffer, Pass::Direct];
+    if settings.mode != RenderMode::Direct {
+        passes.push(Pass::Indirect);
+    }
+    passes.extend([Pass::Composite, Pass::Tonemap]);
+    passes
+}
 
 /// What one frame takes besides the scene and the camera.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -30,12 +75,15 @@ pub struct FrameInput {
     pub frame: u32,
     /// Seed of the random numbers.
     pub seed: u64,
-    /// Frames in the running mean including this one (1 restarts accumulation).
+    /// Frames in the running mean including this one (1 restarts accumulation; the realtime
+    /// mode always passes 1).
     pub accumulated: u32,
-    /// Tonemapping operator.
-    pub tonemapper: Tonemapper,
-    /// Exposure multiplier before tonemapping.
-    pub exposure: f32,
+    /// Whether the denoiser's history restarts (first frame, new size or world).
+    pub reset_history: bool,
+    /// What the frame computes.
+    pub settings: FrameSettings,
+    /// Test hook: the indirect pass writes NaN at pixel (0, 0) and +Inf at (1, 0).
+    pub poison: bool,
 }
 
 /// A uniform buffer holding one `T`.
@@ -48,20 +96,31 @@ fn uniform_buffer(device: &wgpu::Device, label: &str, size: usize) -> wgpu::Buff
     })
 }
 
+/// Whether pass times come from GPU timestamps: when the device has them, unless the
+/// environment variable `CHIARO_TIMER` is `wall` (some drivers, lavapipe among them, write
+/// timestamps that do not bracket the pass's work; the wall clock around each pass submitted
+/// alone and waited for does).
+fn use_timestamps(context: &GpuContext) -> bool {
+    context.timestamps && std::env::var("CHIARO_TIMER").map_or(true, |v| v != "wall")
+}
+
 /// The frame's passes and their resources at one output size.
 pub struct Frame {
     /// The images the passes write.
     pub targets: FrameTargets,
     gbuffer: GbufferPass,
     direct: DirectPass,
+    indirect: IndirectPass,
     composite: CompositePass,
     tonemap: TonemapPass,
     camera: wgpu::Buffer,
     direct_params: wgpu::Buffer,
+    indirect_params: wgpu::Buffer,
     composite_params: wgpu::Buffer,
     tonemap_params: wgpu::Buffer,
     camera_group: wgpu::BindGroup,
     direct_group: wgpu::BindGroup,
+    indirect_group: wgpu::BindGroup,
     composite_group: wgpu::BindGroup,
     tonemap_group: wgpu::BindGroup,
     timer: PassTimer,
@@ -79,34 +138,119 @@ impl Frame {
         let targets = FrameTargets::new(device, width, height);
         let gbuffer = GbufferPass::new(device, scene)?;
         let direct = DirectPass::new(device, scene)?;
+        let indirect = IndirectPass::new(device, scene)?;
         let composite = CompositePass::new(device)?;
         let tonemap = TonemapPass::new(device)?;
         let camera = uniform_buffer(device, "camera uniform", size_of::<GpuCamera>());
         let direct_params = uniform_buffer(device, "direct params", size_of::<DirectParams>());
+        let indirect_params =
+            uniform_buffer(device, "indirect params", size_of::<IndirectParams>());
         let composite_params =
             uniform_buffer(device, "composite params", size_of::<CompositeParams>());
         let tonemap_params = uniform_buffer(device, "tonemap params", size_of::<TonemapParams>());
+        // Frame wiring: the denoiser's output replaces this view once it runs.
+        let filtered = &targets.indirect.view;
         Ok(Self {
             camera_group: gbuffer.camera_bind_group(device, &camera),
             direct_group: direct.bind_group(device, &targets, &camera, &direct_params),
-            composite_group: composite.bind_group(device, &targets, &composite_params),
+            indirect_group: indirect.bind_group(device, &targets, &camera, &indirect_params),
+            composite_group: composite.bind_group(device, &targets, filtered, &composite_params),
             tonemap_group: tonemap.bind_group(device, &targets, &tonemap_params),
-            timer: PassTimer::new(
-                device,
-                &context.queue,
-                context.timestamps,
-                PASSES.len() as u32,
-            ),
+            timer: PassTimer::new(device, &context.queue, use_timestamps(context), MAX_PASSES),
             targets,
             gbuffer,
             direct,
+            indirect,
             composite,
             tonemap,
             camera,
             direct_params,
+            indirect_params,
             composite_params,
             tonemap_params,
         })
+    }
+
+    /// Writes the uniforms of the passes for this frame.
+    fn write_uniforms(&self, queue: &wgpu::Queue, camera: &GpuCamera, input: &FrameInput) {
+        let s = &input.settings;
+        queue.write_buffer(&self.camera, 0, bytemuck::bytes_of(camera));
+        let (seed_lo, seed_hi) = (input.seed as u32, (input.seed >> 32) as u32);
+        let naive = s.mode == RenderMode::Naive;
+        let direct = DirectParams {
+            frame: input.frame,
+            seed_lo,
+            seed_hi,
+            lights: u32::from(!naive),
+        };
+        queue.write_buffer(&self.direct_params, 0, bytemuck::bytes_of(&direct));
+        let indirect = IndirectParams {
+            frame: input.frame,
+            seed_lo,
+            seed_hi,
+            spp: s.spp,
+            bounces: if s.mode == RenderMode::Realtime {
+                s.bounces
+            } else {
+                MAX_BOUNCES
+            },
+            naive: u32::from(naive),
+            poison: u32::from(input.poison),
+            pad: 0,
+        };
+        queue.write_buffer(&self.indirect_params, 0, bytemuck::bytes_of(&indirect));
+        let composite = CompositeParams {
+            frames: if s.mode.accumulates() {
+                input.accumulated.max(1)
+            } else {
+                1
+            },
+            source: match s.mode {
+                RenderMode::Direct => COMPOSITE_DIRECT,
+                _ => COMPOSITE_PATHS,
+            },
+            pad: [0; 2],
+        };
+        queue.write_buffer(&self.composite_params, 0, bytemuck::bytes_of(&composite));
+        let tonemap = TonemapParams::new(s.tonemapper, s.exposure);
+        queue.write_buffer(&self.tonemap_params, 0, bytemuck::bytes_of(&tonemap));
+    }
+
+    /// Records `pass`, timed as the `index`th of the frame.
+    fn record(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &GpuScene,
+        pass: Pass,
+        index: u32,
+    ) {
+        let t = &self.targets;
+        let timer = &self.timer;
+        match pass {
+            Pass::Gbuffer => {
+                self.gbuffer
+                    .record(encoder, scene, &self.camera_group, t, timer.render(index))
+            }
+            Pass::Direct => {
+                self.direct
+                    .record(encoder, scene, &self.direct_group, t, timer.compute(index))
+            }
+            Pass::Indirect => self.indirect.record(
+                encoder,
+                scene,
+                &self.indirect_group,
+                t,
+                timer.compute(index),
+            ),
+            Pass::Composite => {
+                self.composite
+                    .record(encoder, &self.composite_group, t, timer.compute(index))
+            }
+            Pass::Tonemap => {
+                self.tonemap
+                    .record(encoder, &self.tonemap_group, t, timer.compute(index))
+            }
+        }
     }
 
     /// Renders one frame of `scene` seen by `camera` and returns the time of each pass.
@@ -118,73 +262,33 @@ impl Frame {
         input: &FrameInput,
     ) -> PassTimes {
         let (device, queue) = (&context.device, &context.queue);
-        queue.write_buffer(&self.camera, 0, bytemuck::bytes_of(camera));
-        let direct = DirectParams {
-            frame: input.frame,
-            seed_lo: input.seed as u32,
-            seed_hi: (input.seed >> 32) as u32,
-            pad: 0,
-        };
-        queue.write_buffer(&self.direct_params, 0, bytemuck::bytes_of(&direct));
-        let composite = CompositeParams {
-            frames: input.accumulated.max(1),
-            pad: [0; 3],
-        };
-        queue.write_buffer(&self.composite_params, 0, bytemuck::bytes_of(&composite));
-        let tonemap = TonemapParams::new(input.tonemapper, input.exposure);
-        queue.write_buffer(&self.tonemap_params, 0, bytemuck::bytes_of(&tonemap));
-
+        self.write_uniforms(queue, camera, input);
+        let run = passes(&input.settings);
         let gpu = self.timer.gpu();
         let mut wall = Vec::new();
         let mut encoder = new_encoder(device);
-        for (index, _) in PASSES.iter().enumerate() {
-            let i = index as u32;
+        for (index, &pass) in run.iter().enumerate() {
             if !gpu {
                 self.timer.start_wall();
             }
-            let t = &self.targets;
-            match index {
-                0 => self.gbuffer.record(
-                    &mut encoder,
-                    scene,
-                    &self.camera_group,
-                    t,
-                    self.timer.render(i),
-                ),
-                1 => self.direct.record(
-                    &mut encoder,
-                    scene,
-                    &self.direct_group,
-                    t,
-                    self.timer.compute(i),
-                ),
-                2 => self.composite.record(
-                    &mut encoder,
-                    &self.composite_group,
-                    t,
-                    self.timer.compute(i),
-                ),
-                _ => {
-                    self.tonemap
-                        .record(&mut encoder, &self.tonemap_group, t, self.timer.compute(i))
-                }
-            }
+            self.record(&mut encoder, scene, pass, index as u32);
             if !gpu {
                 queue.submit([std::mem::replace(&mut encoder, new_encoder(device)).finish()]);
                 wall.push(self.timer.stop_wall(device));
             }
         }
-        self.timer.resolve(&mut encoder, PASSES.len() as u32);
+        let count = run.len() as u32;
+        self.timer.resolve(&mut encoder, count);
         queue.submit([encoder.finish()]);
         let millis = if gpu {
             self.timer
-                .read(device, PASSES.len() as u32)
-                .unwrap_or_else(|| vec![0.0; PASSES.len()])
+                .read(device, count)
+                .unwrap_or_else(|| vec![0.0; run.len()])
         } else {
             wall
         };
         PassTimes {
-            passes: PASSES.iter().copied().zip(millis).collect(),
+            passes: run.iter().map(|p| p.name()).zip(millis).collect(),
             gpu_timestamps: gpu,
         }
     }

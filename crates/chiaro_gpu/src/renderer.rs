@@ -1,10 +1,11 @@
 //! The headless renderer: renders a `bevy_ecs` World to a linear HDR image and a tonemapped
-//! 8-bit image, accumulating frames with fresh random numbers (and a fresh sub-pixel point
-//! per frame), so the image converges to the direct-light estimate of the CPU reference.
+//! 8-bit image, frame after frame with fresh random numbers and a fresh sub-pixel point per
+//! frame. In the accumulating modes (direct, reference, naive) the image is the mean of the
+//! frames since the camera, the scene or the settings last changed, so it converges to the CPU
+//! reference's estimate; in the realtime mode the temporal pass keeps the history.
 
 use bevy_ecs::prelude::*;
 use chiaro_shading::rng::Pcg32;
-use chiaro_shading::tonemap::Tonemapper;
 use glam::{Mat4, Vec2, Vec3};
 use thiserror::Error;
 
@@ -13,6 +14,7 @@ use crate::context::GpuContext;
 use crate::frame::{Frame, FrameInput};
 use crate::gpu_scene::{GpuScene, add_gpu_scene_systems};
 use crate::readback::{ReadbackError, read_hdr, read_texture};
+use crate::settings::{FrameSettings, SettingsError};
 use crate::shaders::ShaderError;
 use crate::timing::PassTimes;
 
@@ -28,6 +30,9 @@ pub enum RenderError {
     /// Reading the image back failed.
     #[error(transparent)]
     Readback(#[from] ReadbackError),
+    /// A setting is out of range.
+    #[error(transparent)]
+    Settings(#[from] SettingsError),
     /// Nothing was rendered yet.
     #[error("nothing was rendered yet")]
     NotRendered,
@@ -50,14 +55,12 @@ pub struct RenderSettings {
     pub width: u32,
     /// Image height.
     pub height: u32,
-    /// Frames to accumulate (at least 1).
+    /// Frames to render (at least 1).
     pub frames: u32,
     /// Seed of the random numbers.
     pub seed: u64,
-    /// Tonemapping operator of the LDR image.
-    pub tonemapper: Tonemapper,
-    /// Exposure multiplier before tonemapping.
-    pub exposure: f32,
+    /// What each frame computes.
+    pub frame: FrameSettings,
 }
 
 impl Default for RenderSettings {
@@ -67,8 +70,7 @@ impl Default for RenderSettings {
             height: 512,
             frames: 64,
             seed: 0,
-            tonemapper: Tonemapper::PbrNeutral,
-            exposure: 1.0,
+            frame: FrameSettings::default(),
         }
     }
 }
@@ -84,7 +86,8 @@ pub struct RenderOutput {
     pub hdr: Vec<Vec3>,
     /// Tonemapped sRGB, RGBA8 per pixel.
     pub ldr: Vec<u8>,
-    /// Frames accumulated.
+    /// Frames in the image: accumulated since the last restart, or (realtime) rendered since
+    /// the history last restarted.
     pub frames: u32,
     /// Pass times of each frame.
     pub times: Vec<PassTimes>,
@@ -126,6 +129,9 @@ pub struct Renderer {
     accumulated: u32,
     frame_index: u32,
     previous: Option<Mat4>,
+    last_settings: Option<FrameSettings>,
+    reset_history: bool,
+    poison: bool,
 }
 
 impl Renderer {
@@ -139,7 +145,16 @@ impl Renderer {
             accumulated: 0,
             frame_index: 0,
             previous: None,
+            last_settings: None,
+            reset_history: true,
+            poison: false,
         }
+    }
+
+    /// Test hook: while on, the indirect pass writes NaN at pixel (0, 0) and +Inf at (1, 0),
+    /// so tests can check that no non-finite value reaches the history or the image.
+    pub fn inject_non_finite(&mut self, on: bool) {
+        self.poison = on;
     }
 
     fn schedule() -> Schedule {
@@ -148,8 +163,8 @@ impl Renderer {
         schedule
     }
 
-    /// Renders `settings.frames` frames of `world` from a fresh accumulation and reads the
-    /// images back.
+    /// Renders `settings.frames` frames of `world` from a fresh accumulation (and a fresh
+    /// denoiser history) and reads the images back.
     pub fn render(
         &mut self,
         world: &mut World,
@@ -157,67 +172,131 @@ impl Renderer {
     ) -> Result<RenderOutput, RenderError> {
         self.accumulated = 0;
         self.frame_index = 0;
+        self.reset_history = true;
         let times = self.accumulate(world, settings, settings.frames.max(1))?;
         let mut output = self.read(settings)?;
         output.times = times;
         Ok(output)
     }
 
-    /// Adds `frames` frames of `world` to the accumulated image (after the scene systems ran
-    /// on each: edits show up, though accumulation then mixes old and new). Another world
-    /// than the last one restarts the accumulation.
+    /// Renders `frames` more frames of `world`, the scene systems running before each (edits
+    /// show up). In the accumulating modes a frame whose camera, scene uploads or settings
+    /// differ from the last one's restarts the mean. Another world than the last one, or
+    /// another size, restarts everything.
     pub fn accumulate(
         &mut self,
         world: &mut World,
         settings: &RenderSettings,
         frames: u32,
     ) -> Result<Vec<PassTimes>, RenderError> {
+        self.prepare(world, settings, true)?;
+        let mut times = Vec::with_capacity(frames as usize);
+        for _ in 0..frames {
+            self.schedule.run(world);
+            times.push(self.draw(world, settings)?);
+        }
+        Ok(times)
+    }
+
+    /// Gives `world` the [`GpuScene`] resource that chiaro's systems upload into, if it has
+    /// none: an app that runs those systems in its own schedule calls this once before that
+    /// schedule first runs.
+    pub fn attach(&self, world: &mut World) {
+        if !world.contains_resource::<GpuScene>() {
+            let scene = GpuScene::new(&self.context.device, &self.context.queue);
+            world.insert_resource(scene);
+        }
+    }
+
+    /// Renders one frame of `world` for an app that owns its main loop and its `Schedule`:
+    /// the app added chiaro's systems to that schedule ([`add_gpu_scene_systems`]) and ran it
+    /// this frame, so this renders without running any system. When the world holds a
+    /// [`FrameSettings`] resource, it decides what the frame computes (the app edits it like
+    /// any other resource); otherwise `settings.frame` does. Read the image with
+    /// [`Renderer::read`].
+    pub fn render_frame(
+        &mut self,
+        world: &mut World,
+        settings: &RenderSettings,
+    ) -> Result<PassTimes, RenderError> {
+        let settings = RenderSettings {
+            frame: world
+                .get_resource::<FrameSettings>()
+                .copied()
+                .unwrap_or(settings.frame),
+            ..*settings
+        };
+        self.prepare(world, &settings, false)?;
+        self.draw(world, &settings)
+    }
+
+    /// Checks the settings, gives the world its [`GpuScene`] and (re)makes the frame for a new
+    /// world or size; `own_systems`: this renderer runs the scene systems itself.
+    fn prepare(
+        &mut self,
+        world: &mut World,
+        settings: &RenderSettings,
+        own_systems: bool,
+    ) -> Result<(), RenderError> {
+        settings.frame.validate()?;
         let max = self.context.device.limits().max_texture_dimension_2d;
         let (width, height) = (settings.width, settings.height);
         if width == 0 || height == 0 || width > max || height > max {
             return Err(RenderError::Size { width, height, max });
         }
-        if !world.contains_resource::<GpuScene>() {
-            let scene = GpuScene::new(&self.context.device, &self.context.queue);
-            world.insert_resource(scene);
-        }
+        self.attach(world);
         if self.world != Some(world.id()) {
             // A schedule's systems belong to one world: a new world gets new ones.
             self.schedule = Self::schedule();
             self.world = Some(world.id());
             self.frame = None;
             self.previous = None;
+            self.reset_history = true;
         }
         let resized = self
             .frame
             .as_ref()
             .is_none_or(|f| (f.targets.width, f.targets.height) != (width, height));
         if resized {
-            self.schedule.run(world);
+            if own_systems {
+                self.schedule.run(world);
+            }
             let scene = world.resource::<GpuScene>();
             self.frame = Some(Frame::new(&self.context, scene, width, height)?);
             self.accumulated = 0;
+            self.reset_history = true;
         }
-        let mut times = Vec::with_capacity(frames as usize);
-        for _ in 0..frames {
-            self.schedule.run(world);
-            let (camera, global) = active_camera(world)?;
-            let jitter = jitter(settings.seed, self.frame_index);
-            let gpu_camera = GpuCamera::new(&camera, &global, width, height, jitter, self.previous);
-            self.previous = Some(gpu_camera.unjittered());
-            self.accumulated += 1;
-            let input = FrameInput {
-                frame: self.frame_index,
-                seed: settings.seed,
-                accumulated: self.accumulated,
-                tonemapper: settings.tonemapper,
-                exposure: settings.exposure,
-            };
-            let scene = world.resource::<GpuScene>();
-            let frame = self.frame.as_mut().expect("made above");
-            times.push(frame.render(&self.context, scene, &gpu_camera, &input));
-            self.frame_index += 1;
+        Ok(())
+    }
+
+    /// Renders one frame of `world` as its systems left it.
+    fn draw(&mut self, world: &World, settings: &RenderSettings) -> Result<PassTimes, RenderError> {
+        let (width, height) = (settings.width, settings.height);
+        let (camera, global) = active_camera(world)?;
+        let jitter = jitter(settings.seed, self.frame_index);
+        let gpu_camera = GpuCamera::new(&camera, &global, width, height, jitter, self.previous);
+        let scene = world.resource::<GpuScene>();
+        let changed = self.previous != Some(gpu_camera.unjittered())
+            || scene.last.writes > 0
+            || self.last_settings != Some(settings.frame);
+        if self.reset_history || (changed && settings.frame.mode.accumulates()) {
+            self.accumulated = 0;
         }
+        self.previous = Some(gpu_camera.unjittered());
+        self.last_settings = Some(settings.frame);
+        self.accumulated += 1;
+        let input = FrameInput {
+            frame: self.frame_index,
+            seed: settings.seed,
+            accumulated: self.accumulated,
+            reset_history: self.reset_history,
+            settings: settings.frame,
+            poison: self.poison,
+        };
+        let frame = self.frame.as_mut().ok_or(RenderError::NotRendered)?;
+        let times = frame.render(&self.context, scene, &gpu_camera, &input);
+        self.reset_history = false;
+        self.frame_index += 1;
         Ok(times)
     }
 
@@ -251,11 +330,24 @@ impl Renderer {
         })
     }
 
-    /// The last frame's own radiance (before accumulation).
-    pub fn frame_radiance(&self) -> Result<Vec<Vec3>, RenderError> {
+    /// The last frame's direct light reflected by the surfaces seen (the environment where
+    /// none is seen), before accumulation.
+    pub fn direct_light(&self) -> Result<Vec<Vec3>, RenderError> {
         let frame = self.frame.as_ref().ok_or(RenderError::NotRendered)?;
         let (device, queue) = (&self.context.device, &self.context.queue);
         Ok(read_hdr(device, queue, &frame.targets.direct.texture)?)
+    }
+
+    /// The last frame's indirect light reflected by the surfaces seen, before accumulation.
+    pub fn indirect_light(&self) -> Result<Vec<Vec3>, RenderError> {
+        let frame = self.frame.as_ref().ok_or(RenderError::NotRendered)?;
+        let (device, queue) = (&self.context.device, &self.context.queue);
+        Ok(read_hdr(device, queue, &frame.targets.indirect.texture)?)
+    }
+
+    /// The frame's passes and images (after the first render).
+    pub fn frame(&self) -> Option<&Frame> {
+        self.frame.as_ref()
     }
 
     /// The accumulated images.

@@ -212,6 +212,7 @@ pub fn shared_constants() -> Vec<SharedConstant> {
         "SHADOW_RAY_REACH",
         crate::passes::direct::SHADOW_RAY_REACH,
     ));
+    all.extend(crate::passes::composite::constants());
     all.extend(
         chiaro_shading::tonemap::CURVE_CONSTANTS
             .iter()

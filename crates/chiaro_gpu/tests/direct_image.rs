@@ -28,7 +28,7 @@ use std::path::Path;
 
 use bevy_ecs::prelude::{Entity, Name};
 use bevy_ecs::world::World;
-use chiaro_gpu::{RenderSettings, Renderer};
+use chiaro_gpu::{FrameSettings, RenderMode, RenderSettings, Renderer};
 use chiaro_reference::{PathSettings, render_world};
 use chiaro_scene::{AlphaMode, Environment, Materials, MeshInstance, load_scene};
 use glam::Vec3;
@@ -131,7 +131,10 @@ fn compare(
         height: size,
         frames: checkpoints[0],
         seed: 1,
-        ..RenderSettings::default()
+        frame: FrameSettings {
+            mode: RenderMode::Direct,
+            ..FrameSettings::default()
+        },
     };
     let mut out = renderer.render(&mut gpu_world, &settings).unwrap();
     let mut errors = Vec::new();

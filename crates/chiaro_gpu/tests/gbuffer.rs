@@ -7,7 +7,7 @@
 mod common;
 
 use bevy_ecs::prelude::*;
-use chiaro_gpu::{RenderSettings, Renderer};
+use chiaro_gpu::{FrameSettings, RenderMode, RenderSettings, Renderer};
 use chiaro_scene::{ActiveCamera, Materials, MeshInstance, Transform, load_scene};
 use glam::{Mat4, Vec2, Vec3};
 
@@ -31,6 +31,10 @@ fn motion_vectors_follow_instances_and_the_camera() {
         width: size,
         height: size,
         frames: 2,
+        frame: FrameSettings {
+            mode: RenderMode::Direct,
+            ..FrameSettings::default()
+        },
         ..RenderSettings::default()
     };
     renderer.render(&mut world, &settings).unwrap();

@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use bevy_ecs::world::World;
-use chiaro_gpu::{RenderError, RenderSettings, Renderer};
+use chiaro_gpu::{FrameSettings, RenderError, RenderMode, RenderSettings, Renderer};
 use chiaro_scene::{Environment, load_scene};
 use thiserror::Error;
 
@@ -153,12 +153,64 @@ pub struct BenchConfig {
     pub settings: RenderSettings,
 }
 
-/// The configurations measured by default.
+/// The configurations measured by default: direct light only; realtime as it ships, without
+/// its denoiser, with 2 and 4 paths per pixel and with bounce caps 1 and 3; the naive paths;
+/// the GPU reference.
 pub fn default_configs() -> Vec<BenchConfig> {
-    vec![BenchConfig {
-        name: "direct".into(),
-        settings: RenderSettings::default(),
-    }]
+    let realtime = FrameSettings::default();
+    let mut raw = realtime;
+    raw.denoise.enabled = false;
+    let configs = [
+        (
+            "direct",
+            FrameSettings {
+                mode: RenderMode::Direct,
+                ..realtime
+            },
+        ),
+        ("realtime", realtime),
+        ("realtime-no-denoise", raw),
+        ("realtime-spp2", FrameSettings { spp: 2, ..realtime }),
+        ("realtime-spp4", FrameSettings { spp: 4, ..realtime }),
+        (
+            "realtime-bounces1",
+            FrameSettings {
+                bounces: 1,
+                ..realtime
+            },
+        ),
+        (
+            "realtime-bounces3",
+            FrameSettings {
+                bounces: 3,
+                ..realtime
+            },
+        ),
+        (
+            "naive",
+            FrameSettings {
+                mode: RenderMode::Naive,
+                ..realtime
+            },
+        ),
+        (
+            "reference",
+            FrameSettings {
+                mode: RenderMode::Reference,
+                ..realtime
+            },
+        ),
+    ];
+    configs
+        .into_iter()
+        .map(|(name, frame)| BenchConfig {
+            name: name.into(),
+            settings: RenderSettings {
+                frame,
+                ..RenderSettings::default()
+            },
+        })
+        .collect()
 }
 
 /// How the benchmark runs.

@@ -1,10 +1,28 @@
-//! `composite`: adds the frame's radiance to the running sum and writes the mean as the
-//! linear HDR image (progressive accumulation over frames; restarts when told).
+//! `composite`: the frame's radiance from its parts (emission, direct and indirect light, or
+//! the denoiser's filtered lighting times the albedo), added to the running sum whose mean is
+//! the linear HDR image (progressive accumulation over frames; restarts when told).
 
 use bytemuck::{Pod, Zeroable};
+use wgpu::TextureSampleType as S;
 
-use crate::shaders::ShaderError;
+use crate::shaders::{ShaderError, SharedConstant};
 use crate::targets::{FrameTargets, HDR_FORMAT};
+
+/// Source of the reflected light: the direct estimate only.
+pub const COMPOSITE_DIRECT: u32 = 0;
+/// Source of the reflected light: the direct and indirect estimates as they are.
+pub const COMPOSITE_PATHS: u32 = 1;
+/// Source of the reflected light: the denoiser's filtered lighting times the albedo.
+pub const COMPOSITE_FILTERED: u32 = 2;
+
+/// The constants `shaders/composite.wgsl` shares.
+pub fn constants() -> Vec<SharedConstant> {
+    vec![
+        SharedConstant::U32("COMPOSITE_DIRECT", COMPOSITE_DIRECT),
+        SharedConstant::U32("COMPOSITE_PATHS", COMPOSITE_PATHS),
+        SharedConstant::U32("COMPOSITE_FILTERED", COMPOSITE_FILTERED),
+    ]
+}
 
 /// The pass's uniform (mirrored by `CompositeParams` in `shaders/composite.wgsl`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -12,8 +30,11 @@ use crate::targets::{FrameTargets, HDR_FORMAT};
 pub struct CompositeParams {
     /// Frames in the sum after this one (1 restarts it).
     pub frames: u32,
+    /// Where the reflected light comes from: [`COMPOSITE_DIRECT`], [`COMPOSITE_PATHS`] or
+    /// [`COMPOSITE_FILTERED`].
+    pub source: u32,
     /// Padding.
-    pub pad: [u32; 3],
+    pub pad: [u32; 2],
 }
 
 /// The composite pass.
@@ -26,16 +47,19 @@ impl CompositePass {
     /// The pipeline.
     pub fn new(device: &wgpu::Device) -> Result<Self, ShaderError> {
         use super::{compute_entry as e, storage, texture, uniform};
+        let float = S::Float { filterable: false };
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("composite layout"),
             entries: &[
-                e(
-                    0,
-                    texture(wgpu::TextureSampleType::Float { filterable: false }),
-                ),
-                e(1, storage(false)),
-                e(2, uniform()),
-                e(3, super::storage_texture(HDR_FORMAT)),
+                e(0, texture(float)),
+                e(1, texture(float)),
+                e(2, texture(float)),
+                e(3, texture(S::Uint)),
+                e(4, texture(S::Uint)),
+                e(5, texture(S::Uint)),
+                e(6, storage(false)),
+                e(7, uniform()),
+                e(8, super::storage_texture(HDR_FORMAT)),
             ],
         });
         let pipeline = super::compute_pipeline(
@@ -47,33 +71,37 @@ impl CompositePass {
         Ok(Self { pipeline, layout })
     }
 
-    /// The pass's bind group.
+    /// The pass's bind group; `filtered` is the denoiser's output.
     pub fn bind_group(
         &self,
         device: &wgpu::Device,
         targets: &FrameTargets,
+        filtered: &wgpu::TextureView,
         params: &wgpu::Buffer,
     ) -> wgpu::BindGroup {
+        let view = |binding, view| wgpu::BindGroupEntry {
+            binding,
+            resource: wgpu::BindingResource::TextureView(view),
+        };
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("composite bind group"),
             layout: &self.layout,
             entries: &[
+                view(0, &targets.direct.view),
+                view(1, &targets.indirect.view),
+                view(2, filtered),
+                view(3, &targets.position.view),
+                view(4, &targets.surface.view),
+                view(5, &targets.emission.view),
                 wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(&targets.direct.view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
+                    binding: 6,
                     resource: targets.accumulation.as_entire_binding(),
                 },
                 wgpu::BindGroupEntry {
-                    binding: 2,
+                    binding: 7,
                     resource: params.as_entire_binding(),
                 },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: wgpu::BindingResource::TextureView(&targets.hdr.view),
-                },
+                view(8, &targets.hdr.view),
             ],
         })
     }

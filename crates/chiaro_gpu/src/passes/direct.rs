@@ -1,6 +1,6 @@
 //! `direct`: one frame's direct-light estimate per pixel from the G-buffer (see
-//! `shaders/direct.wgsl`): emission, punctual lights, one MIS-weighted area-light sample and
-//! one BRDF sample, each light sample with one shadow ray.
+//! `shaders/direct.wgsl`): the light the surface reflects from punctual lights, one
+//! MIS-weighted area-light sample and one BRDF sample, each light sample with one shadow ray.
 
 use bytemuck::{Pod, Zeroable};
 use wgpu::TextureSampleType as S;
@@ -23,8 +23,9 @@ pub struct DirectParams {
     pub seed_lo: u32,
     /// Seed, high 32 bits.
     pub seed_hi: u32,
-    /// Padding.
-    pub pad: u32,
+    /// 1: sample the lights; 0 (naive mode): covered pixels reflect nothing here (the naive
+    /// paths of the indirect pass carry all their light).
+    pub lights: u32,
 }
 
 /// The direct-light pass.

@@ -5,6 +5,7 @@ pub mod atrous;
 pub mod composite;
 pub mod direct;
 pub mod gbuffer;
+pub mod indirect;
 pub mod temporal;
 pub mod tonemap;
 pub mod variance;
