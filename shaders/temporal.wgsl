@@ -7,7 +7,8 @@
 //   each accepted only if the previous G-buffer saw the same instance there, with a normal
 //   within 25 degrees of this one and a position within 1% of the view depth of this pixel's
 //   tangent plane (plane distance: slope-aware, a slanted surface's texels pass however much
-//   their depth differs). The accepted texels are blended bilinearly, renormalized.
+//   their depth differs). The accepted texels are blended bilinearly, renormalized; where
+//   none is, the accepted texels of the 3 x 3 around the point, equally (as SVGF).
 // - Moving average: weight max(1 / history length, temporal_floor) for the new frame; the
 //   history length restarts at 1 where no texel is accepted (disocclusion) or on reset.
 // - Non-finite guard: a sample with a NaN or an infinity (found by exponent bits: WGSL has no
@@ -102,6 +103,39 @@ fn usable(c: vec3<f32>) -> bool {
     return vec3_is_finite(c) && abs(luminance(c)) < 1.0e18;
 }
 
+struct HistoryTap {
+    color: vec3<f32>,
+    moments: vec3<f32>,
+    // 1 if accepted, else 0 (and the rest 0).
+    weight: f32,
+}
+
+// The previous frame's texel `q` if it passes the disocclusion tests against the surface `s`
+// at view depth `depth`: inside the image, a shading surface of the same instance, normals
+// within NORMAL_COS, within PLANE_DISTANCE x depth of the surface's tangent plane, finite.
+fn history_tap(q: vec2<i32>, s: GbufferSurface, depth: f32, size: vec2<i32>) -> HistoryTap {
+    var none: HistoryTap;
+    if any(q < vec2<i32>(0)) || any(q >= size) {
+        return none;
+    }
+    let t = previous_texels(q);
+    if !shades(t) {
+        return none;
+    }
+    let h = gbuffer_unpack(t);
+    let plane = abs(dot(h.position - s.position, s.geometric_normal));
+    if h.instance != s.instance || dot(h.geometric_normal, s.geometric_normal) < NORMAL_COS
+        || !(plane <= PLANE_DISTANCE * depth) {
+        return none;
+    }
+    let c = textureLoad(color_history, q, 0);
+    let m = textureLoad(moments_history, q, 0);
+    if !finite4(c) || !finite4(m) {
+        return none;
+    }
+    return HistoryTap(c.xyz, m.xyz, 1.0);
+}
+
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = vec2<i32>(textureDimensions(integrated_out));
@@ -134,35 +168,28 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     var color = vec3<f32>(0.0);
     var moments = vec3<f32>(0.0);
     var weight = 0.0;
-    if params.reset == 0u && all(abs(motion) < vec2<f32>(1.0e6)) {
+    let reprojects = params.reset == 0u && all(abs(motion) < vec2<f32>(1.0e6));
+    if reprojects {
         let base = vec2<i32>(floor(previous));
         let f = previous - floor(previous);
         for (var k = 0; k < 4; k++) {
             let o = vec2<i32>(k & 1, k >> 1u);
-            let q = base + o;
-            if any(q < vec2<i32>(0)) || any(q >= size) {
-                continue;
-            }
-            let t = previous_texels(q);
-            if !shades(t) {
-                continue;
-            }
-            let h = gbuffer_unpack(t);
-            let plane = abs(dot(h.position - s.position, s.geometric_normal));
-            if h.instance != s.instance || dot(h.geometric_normal, s.geometric_normal) < NORMAL_COS
-                || !(plane <= PLANE_DISTANCE * depth) {
-                continue;
-            }
-            let c = textureLoad(color_history, q, 0);
-            let m = textureLoad(moments_history, q, 0);
-            if !finite4(c) || !finite4(m) {
-                continue;
-            }
             let b = select(1.0 - f, f, vec2<bool>(o == vec2<i32>(1)));
-            let w = b.x * b.y;
-            color += w * c.xyz;
-            moments += w * m.xyz;
-            weight += w;
+            let tap = history_tap(base + o, s, depth, size);
+            color += b.x * b.y * tap.color;
+            moments += b.x * b.y * tap.moments;
+            weight += b.x * b.y * tap.weight;
+        }
+    }
+    if reprojects && weight < MIN_WEIGHT {
+        // As SVGF: where no bilinear tap is accepted (sub-pixel edges move with the jitter),
+        // the accepted texels of the 3 x 3 around the point, equally weighted.
+        let centre = vec2<i32>(floor(previous + 0.5));
+        for (var k = 0; k < 9; k++) {
+            let tap = history_tap(centre + vec2<i32>(k % 3 - 1, k / 3 - 1), s, depth, size);
+            color += tap.color;
+            moments += tap.moments;
+            weight += tap.weight;
         }
     }
     let has_history = weight >= MIN_WEIGHT;

@@ -1,6 +1,9 @@
 // Variance estimation of the denoiser, after SVGF (Schied et al., "Spatiotemporal
 // Variance-Guided Filtering", HPG 2017, section 4.2): the luminance variance per pixel from
-// the temporal moments, E[l^2] - E[l]^2; where the history is shorter than 4 frames the
+// the temporal moments, E[l^2] - E[l]^2, divided by the moving average's effective sample
+// count (SVGF does not divide: its filter then blurs a converged history as much as one
+// frame's noise; on the Cornell box at 64 x 64 the division lowers relMSE after 64 frames,
+// see tests/denoise.rs); where the history is shorter than 4 frames the
 // moments are too few, so the variance (and the colour) comes from a 7 x 7 cross-bilateral
 // neighbourhood instead (depth and normal edge-stopping as the a-trous filter, luminance with
 // SVGF's fixed sigma of 10), boosted by 4 / history length as SVGF does.
@@ -36,7 +39,13 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     if m_p.z >= DENOISE_SHORT_HISTORY {
-        textureStore(filtered_out, p, vec4<f32>(c_p, max(m_p.y - m_p.x * m_p.x, 0.0)));
+        // The moments give the variance of one frame's sample, but the colour filtered is the
+        // moving average, whose variance is smaller by its effective sample count: 1 / n for
+        // the plain mean of n frames (weights 1 / n), a / (2 - a) for an exponential average
+        // of weight a in its steady state; the larger of the two in between.
+        let a = params.temporal_floor;
+        let v = max(m_p.y - m_p.x * m_p.x, 0.0) * max(1.0 / m_p.z, a / (2.0 - a));
+        textureStore(filtered_out, p, vec4<f32>(c_p, v));
         return;
     }
     let l_p = luminance(c_p);
