@@ -1,7 +1,9 @@
 //! chiaro's GPU frame on wgpu: the device ([`context`]), the WGSL sources and their
 //! composition ([`shaders`]), the scene's buffers kept in step with the ECS world
-//! ([`gpu_scene`]), the passes ([`passes`]) run in order by [`frame`], and the headless
-//! [`Renderer`] that accumulates frames and reads the images back.
+//! ([`gpu_scene`]), the passes ([`passes`]) run in order by [`frame`] as the mode in
+//! [`FrameSettings`] asks, and the headless [`Renderer`] that renders frames, for a World it
+//! updates itself or for an app that runs chiaro's systems in its own schedule, and reads the
+//! images back.
 //!
 //! It runs on any adapter wgpu offers, CPU rasterizers such as lavapipe included: rays are
 //! traversed in compute shaders over the BVHs `chiaro_bvh` builds, with no hardware ray tracing.
