@@ -6,7 +6,8 @@
 // see tests/denoise.rs); where the history is shorter than 4 frames the
 // moments are too few, so the variance (and the colour) comes from a 7 x 7 cross-bilateral
 // neighbourhood instead (depth and normal edge-stopping as the a-trous filter, luminance with
-// SVGF's fixed sigma of 10), boosted by 4 / history length as SVGF does.
+// SVGF's fixed sigma of 10), boosted by 4 / history length as SVGF does (and divided by the
+// history length, as the long history's).
 //
 // Writes the colour with the variance in alpha, the a-trous filter's input.
 
@@ -72,7 +73,12 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let c = sum_c / sum_w;
     let m = sum_m / sum_w;
-    var v = max(m.y - m.x * m.x, 0.0) * DENOISE_SHORT_HISTORY / max(m_p.z, 1.0);
+    // SVGF's boost of 4 / h for a short history, over h as for the long one: the
+    // neighbourhood's moments are single frames', the colour the mean of h. (Without the last
+    // division frames 2 and 3 measured relMSE 1.47e-2 and 1.82e-2 on the 64 x 64 Cornell box,
+    // with it 1.36e-2 and 1.63e-2; frame 1 is the same.)
+    let h = max(m_p.z, 1.0);
+    let v = max(m.y - m.x * m.x, 0.0) * DENOISE_SHORT_HISTORY / (h * h);
     var out = vec4<f32>(c, v);
     if !(vec3_is_finite(c) && f32_is_finite(v)) {
         out = vec4<f32>(c_p, 0.0);

@@ -196,6 +196,11 @@ impl Frame {
         })
     }
 
+    /// The realtime mode's denoiser (its history and output, for tests and debug views).
+    pub fn denoiser(&self) -> &Denoiser {
+        &self.denoiser
+    }
+
     /// Writes the uniforms of the passes for this frame.
     fn write_uniforms(&mut self, queue: &wgpu::Queue, camera: &GpuCamera, input: &FrameInput) {
         let s = &input.settings;
@@ -331,13 +336,6 @@ impl Frame {
             passes: run.iter().map(|p| p.name()).zip(millis).collect(),
             gpu_timestamps: gpu,
         }
-    }
-}
-
-impl Frame {
-    /// The realtime mode's denoiser (its history and output, for tests and debug views).
-    pub fn denoiser(&self) -> &Denoiser {
-        &self.denoiser
     }
 }
 
