@@ -11,6 +11,7 @@
 #import lib/bvh_bindings.wgsl
 #import lib/scene_bindings.wgsl
 #import lib/textures.wgsl
+#import lib/shading_normals.wgsl
 #import lib/camera.wgsl
 #import lib/gbuffer_packing.wgsl
 
@@ -81,11 +82,6 @@ struct GbufferOut {
     @location(3) motion: vec2<u32>,
 }
 
-fn safe_normalize(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
-    let l = length(v);
-    return select(fallback, v / l, l > 0.0 && l < 3.0e38);
-}
-
 @fragment
 fn fs_main(in: VertexOut) -> GbufferOut {
     let record = bvh_instances[in.instance];
@@ -98,26 +94,12 @@ fn fs_main(in: VertexOut) -> GbufferOut {
     let view = in.world - camera.origin;
     let incoming = select(view, camera.forward, camera.orthographic != 0u);
     let geometric_front = safe_normalize(in.geometric, vec3<f32>(0.0, 0.0, 1.0));
-    let front_facing = dot(incoming, geometric_front) < 0.0;
-    var shading_front = safe_normalize(in.normal, geometric_front);
-    if (material.normal_texture.texture != NO_INDEX) && (mesh_flags & MESH_HAS_TANGENTS) != 0u {
-        // Alpha -1 marks a lookup that found no texel (missing UV set or texture).
-        let texel = texture_sample_slot(material.normal_texture, in.uvs, mesh_flags, vec4<f32>(-1.0));
-        let tangent = safe_normalize(in.tangent.xyz - shading_front * dot(shading_front, in.tangent.xyz), vec3<f32>(0.0));
-        if texel.w >= 0.0 && any(tangent != vec3<f32>(0.0)) {
-            let mirror = select(1.0, -1.0, scene_instance_extras[in.instance].mirrored != 0u);
-            let bitangent = cross(shading_front, tangent) * sign(in.tangent.w) * mirror;
-            let m = (texel.xyz * 2.0 - 1.0) * vec3<f32>(material.normal_scale, material.normal_scale, 1.0);
-            shading_front = safe_normalize(tangent * m.x + bitangent * m.y + shading_front * m.z, shading_front);
-        }
-    }
-    let side = select(-1.0, 1.0, front_facing);
-    let geometric_normal = geometric_front * side;
-    var shading_normal = shading_front * side;
-    if dot(shading_normal, -incoming) <= 0.0 {
-        shading_normal = geometric_normal;
-    }
-    let shades = front_facing || (material.flags & MATERIAL_DOUBLE_SIDED) != 0u;
+    let mirrored = scene_instance_extras[in.instance].mirrored != 0u;
+    let shading_front = mapped_shading_normal(material, mesh_flags, in.uvs, in.normal, in.tangent,
+        mirrored, geometric_front);
+    let normals = orient_normals(geometric_front, shading_front, incoming,
+        (material.flags & MATERIAL_DOUBLE_SIDED) != 0u);
+    let shades = normals.shades;
     let metallic_roughness = texture_sample_slot(material.metallic_roughness_texture, in.uvs, mesh_flags, vec4<f32>(1.0));
     var emission = vec3<f32>(0.0);
     if shades {
@@ -125,8 +107,8 @@ fn fs_main(in: VertexOut) -> GbufferOut {
     }
     var surface: GbufferSurface;
     surface.position = in.world;
-    surface.geometric_normal = geometric_normal;
-    surface.shading_normal = shading_normal;
+    surface.geometric_normal = normals.geometric;
+    surface.shading_normal = normals.shading;
     surface.base_color = material.base_color.xyz * base.xyz;
     surface.metallic = clamp(material.metallic * metallic_roughness.z, 0.0, 1.0);
     surface.roughness = clamp(material.roughness * metallic_roughness.y, 0.0, 1.0);

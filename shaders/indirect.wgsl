@@ -1,8 +1,47 @@
-// Indirect light per pixel of the G-buffer (placeholder until the path tracer lands: zero,
-// and the non-finite test hook).
+// Indirect light per pixel of the G-buffer: the mean over `spp` paths of the light that the
+// surface the camera sees reflects and that the direct pass does not count, by path tracing
+// (Kajiya, "The Rendering Equation", SIGGRAPH 1986), written as is (not demodulated).
+//
+// Default (realtime and reference modes): the path leaves the primary surface x0 by BRDF
+// importance sampling (GGX visible normals: Heitz, "Sampling the GGX Distribution of Visible
+// Normals", JCGT 7(4), 2018, through brdf_sample); at each further vertex x1 .. x_bounces it
+// adds next-event estimation (punctual lights and one area-light or environment sample) and
+// the emission or environment that the next BRDF-sampled ray reaches, the two combined by
+// multiple importance sampling with the power heuristic (Veach, "Robust Monte Carlo Methods
+// for Light Transport Simulation", PhD thesis, Stanford, 1997, chapter 9). The emission the
+// primary vertex's own BRDF ray reaches, and the light sampled at x0, are the direct pass's.
+// So direct + indirect with `bounces` = b is chiaro_reference's path tracer with max_depth
+// b + 1 (scattering at x0 .. x_b, emission reached up to x_(b+1)).
+//
+// Naive (`naive` = 1, the path tracing notes' baseline): every vertex from x0 on continues in a
+// direction uniform over the hemisphere of its shading normal (pdf 1 / (2 pi), weight
+// f cos / pdf); emission and environment count with weight 1 wherever a ray reaches them; no
+// light sampling at all. Its output is all the light x0 reflects (the direct pass then writes
+// none). Perfect mirrors (a delta lobe) reflect nothing to it: uniform directions never find
+// the mirror direction.
+//
+// Both: Russian roulette as chiaro_reference's integrator (after the BRDF sample at vertex
+// x_d for d + 1 >= RUSSIAN_ROULETTE_FROM, survival max(throughput) clamped to
+// [RUSSIAN_ROULETTE_MIN, 1], survivors divided by it), so the estimate stays unbiased.
+//
+// Random numbers: one PCG32 per pixel and frame on stream (pixel index, frame | INDIRECT_STREAM),
+// independent of the direct pass's (pixel index, frame) for frames below 2^30.
+//
+// Test hook: with `poison` nonzero, pixel (0, 0) writes NaN and pixel (1, 0) writes +infinity
+// (what the denoiser's non-finite guard must keep out of its history).
 
 #import lib/generated.wgsl
+#import lib/float.wgsl
+#import lib/bvh.wgsl
+#import lib/rng.wgsl
+#import lib/frame.wgsl
+#import lib/sampling.wgsl
+#import lib/brdf.wgsl
 #import lib/camera.wgsl
+#import lib/gbuffer_packing.wgsl
+#import lib/gbuffer_inputs.wgsl
+#import lib/surface.wgsl
+#import lib/next_event.wgsl
 
 // chiaro_gpu::passes::indirect::IndirectParams.
 struct IndirectParams {
@@ -16,12 +55,90 @@ struct IndirectParams {
     pad: u32,
 }
 
-@group(1) @binding(0) var gbuffer_position: texture_2d<u32>;
-@group(1) @binding(1) var gbuffer_surface: texture_2d<u32>;
-@group(1) @binding(2) var gbuffer_emission: texture_2d<u32>;
-@group(1) @binding(3) var<uniform> camera: GpuCamera;
 @group(1) @binding(4) var<uniform> params: IndirectParams;
 @group(1) @binding(5) var indirect_out: texture_storage_2d<rgba32float, write>;
+
+// chiaro_reference's PathSettings::default().russian_roulette_from and its survival floor.
+const RUSSIAN_ROULETTE_FROM: u32 = 3u;
+const RUSSIAN_ROULETTE_MIN: f32 = 0.05;
+// Set in the high word of the random stream (bit 62 of the 63 that count).
+const INDIRECT_STREAM: u32 = 0x40000000u;
+
+// A direction to continue a path in: world direction, weight f cos / pdf, solid-angle pdf.
+struct Scatter {
+    wi: vec3<f32>,
+    weight: vec3<f32>,
+    pdf: f32,
+    delta: bool,
+    valid: bool,
+}
+
+// The next direction from s: BRDF importance sampling, or uniform over the hemisphere.
+fn scatter(s: Shading, rng: ptr<function, Pcg32>, naive: bool) -> Scatter {
+    var out: Scatter;
+    if naive {
+        let wi = uniform_hemisphere(pcg32_next_vec2(rng));
+        out.wi = frame_to_world(s.frame, wi);
+        out.weight = brdf_eval(s.params, s.wo, wi) * (wi.z / UNIFORM_HEMISPHERE_PDF);
+        out.pdf = UNIFORM_HEMISPHERE_PDF;
+        out.delta = false;
+        out.valid = true;
+        return out;
+    }
+    let u_lobe = pcg32_next_f32(rng);
+    let u = pcg32_next_vec2(rng);
+    let bs = brdf_sample(s.params, s.wo, u_lobe, u);
+    out.wi = frame_to_world(s.frame, bs.wi);
+    out.weight = bs.weight;
+    out.pdf = bs.pdf;
+    out.delta = bs.delta;
+    out.valid = bs.valid;
+    return out;
+}
+
+// One path from the primary shading point x0: what the pass counts of its light.
+fn trace_path(x0: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
+    let naive = params.naive != 0u;
+    var s = x0;
+    var throughput = vec3<f32>(1.0);
+    var total = vec3<f32>(0.0);
+    for (var depth = 0u; depth <= params.bounces; depth++) {
+        if depth > 0u && !naive {
+            total += throughput * next_event(s, rng);
+        }
+        let step = scatter(s, rng, naive);
+        if !step.valid {
+            break;
+        }
+        throughput *= step.weight;
+        if !vec3_is_finite(throughput) || all(throughput == vec3<f32>(0.0)) {
+            break;
+        }
+        let ray = leaving_ray(s, step.wi);
+        if depth + 1u >= RUSSIAN_ROULETTE_FROM {
+            let survive = clamp(max(max(throughput.x, throughput.y), throughput.z),
+                RUSSIAN_ROULETTE_MIN, 1.0);
+            if pcg32_next_f32(rng) >= survive {
+                break;
+            }
+            throughput /= survive;
+        }
+        let hit = trace_closest(ray, f32_infinity());
+        if depth > 0u || naive {
+            total += throughput * emission_reached(s.position, step.wi, hit, step.pdf,
+                !naive && !step.delta);
+        }
+        if hit.instance == BVH_NO_HIT || depth == params.bounces {
+            break;
+        }
+        let next = surface_at_hit(step.wi, hit);
+        if !next.shades {
+            break;
+        }
+        s = next.shading;
+    }
+    return total;
+}
 
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -29,5 +146,26 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= size.x || id.y >= size.y {
         return;
     }
-    textureStore(indirect_out, vec2<i32>(id.xy), vec4<f32>(0.0, 0.0, 0.0, 1.0));
+    let pixel = vec2<i32>(id.xy);
+    if params.poison != 0u && id.y == 0u && id.x < 2u {
+        let poison = select(bitcast<f32>(0x7fc00000u), f32_infinity(), id.x == 1u);
+        textureStore(indirect_out, pixel, vec4<f32>(vec3<f32>(poison), 1.0));
+        return;
+    }
+    let texels = gbuffer_load(pixel);
+    var radiance = vec3<f32>(0.0);
+    if gbuffer_covered(texels) {
+        let g = gbuffer_unpack(texels);
+        if g.shades && params.spp > 0u {
+            let x0 = gbuffer_shading(g, camera);
+            let index = id.y * size.x + id.x;
+            var rng = pcg32_new(vec2<u32>(params.seed_lo, params.seed_hi),
+                vec2<u32>(index, params.frame | INDIRECT_STREAM));
+            for (var i = 0u; i < params.spp; i++) {
+                radiance += trace_path(x0, &rng);
+            }
+            radiance /= f32(params.spp);
+        }
+    }
+    textureStore(indirect_out, pixel, vec4<f32>(radiance, 1.0));
 }

@@ -6,6 +6,7 @@ pub mod composite;
 pub mod direct;
 pub mod gbuffer;
 pub mod indirect;
+pub mod shading_pass;
 pub mod temporal;
 pub mod tonemap;
 pub mod variance;

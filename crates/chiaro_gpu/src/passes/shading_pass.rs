@@ -1,0 +1,112 @@
+//! What the `direct` and `indirect` passes share: a compute shader over the G-buffer, one
+//! invocation per pixel, with the scene in group 0 and, in group 1, the G-buffer's position,
+//! surface and emission targets, the camera (`shaders/lib/gbuffer_inputs.wgsl`), the pass's
+//! parameters and the HDR image it writes.
+
+use std::marker::PhantomData;
+
+use wgpu::TextureSampleType as S;
+
+use crate::gpu_scene::GpuScene;
+use crate::shaders::ShaderError;
+use crate::targets::{FrameTargets, HDR_FORMAT, Target};
+
+/// Which G-buffer shading pass: its shader and the image it writes.
+pub trait ShadingKind {
+    /// The pass's name: its shader is `shaders/NAME.wgsl`, its wgpu objects are labelled with it.
+    const NAME: &'static str;
+    /// The image the pass writes.
+    fn output(targets: &FrameTargets) -> &Target;
+}
+
+/// A compute pass that shades the G-buffer's pixels (see [`ShadingKind`]).
+pub struct GbufferShadingPass<K> {
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+    kind: PhantomData<K>,
+}
+
+impl<K: ShadingKind> GbufferShadingPass<K> {
+    /// The pipeline for the scene's bind-group layout.
+    pub fn new(device: &wgpu::Device, scene: &GpuScene) -> Result<Self, ShaderError> {
+        let name = K::NAME;
+        use super::{compute_entry as e, texture, uniform};
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some(&format!("{name} layout")),
+            entries: &[
+                e(0, texture(S::Uint)),
+                e(1, texture(S::Uint)),
+                e(2, texture(S::Uint)),
+                e(3, uniform()),
+                e(4, uniform()),
+                e(5, super::storage_texture(HDR_FORMAT)),
+            ],
+        });
+        let pipeline = super::compute_pipeline(
+            device,
+            &format!("{name} pipeline"),
+            &format!("{name}.wgsl"),
+            &[Some(scene.layout()), Some(&layout)],
+        )?;
+        Ok(Self {
+            pipeline,
+            layout,
+            kind: PhantomData,
+        })
+    }
+
+    /// The pass's bind group over `targets`, the camera and the parameters.
+    pub fn bind_group(
+        &self,
+        device: &wgpu::Device,
+        targets: &FrameTargets,
+        camera: &wgpu::Buffer,
+        params: &wgpu::Buffer,
+    ) -> wgpu::BindGroup {
+        let view = |binding, view| wgpu::BindGroupEntry {
+            binding,
+            resource: wgpu::BindingResource::TextureView(view),
+        };
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(&format!("{} bind group", K::NAME)),
+            layout: &self.layout,
+            entries: &[
+                view(0, &targets.position.view),
+                view(1, &targets.surface.view),
+                view(2, &targets.emission.view),
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: camera.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: params.as_entire_binding(),
+                },
+                view(5, &K::output(targets).view),
+            ],
+        })
+    }
+
+    /// Records the pass (nothing while the scene has no bind group).
+    pub fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &GpuScene,
+        group: &wgpu::BindGroup,
+        targets: &FrameTargets,
+        timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) {
+        let Some(scene_group) = scene.bind_group() else {
+            return;
+        };
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(&format!("{} pass", K::NAME)),
+            timestamp_writes: timestamps,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, scene_group, &[]);
+        pass.set_bind_group(1, group, &[]);
+        let (x, y) = super::workgroups(targets.width, targets.height);
+        pass.dispatch_workgroups(x, y, 1);
+    }
+}

@@ -1,0 +1,71 @@
+// A surface's normals as chiaro_reference's surface_at decides them, shared by the G-buffer
+// (raster) and by surfaces found by rays: the normal map in the interpolated tangent frame
+// (glTF 2.0 tangent-space normal textures, with normal_scale), then both normals turned to the
+// side the view arrives from, the shading normal replaced by the geometric one where it faces
+// away from the viewer. A back face of a single-sided material does not shade.
+
+#import lib/generated.wgsl
+#import lib/scene_bindings.wgsl
+#import lib/textures.wgsl
+
+// v / |v|, or `fallback` when the length is zero or not finite.
+fn safe_normalize(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
+    let l = length(v);
+    return select(fallback, v / l, l > 0.0 && l < 3.0e38);
+}
+
+// The unit front-side shading normal: `interpolated` (world, any length; `geometric_front`
+// where it degenerates) bent by the material's normal texture at `uvs` when the mesh has
+// tangents. `tangent` is the world tangent with the bitangent sign in w; `mirrored` when the
+// instance's transform mirrors.
+fn mapped_shading_normal(
+    material: GpuMaterial,
+    mesh_flags: u32,
+    uvs: vec4<f32>,
+    interpolated: vec3<f32>,
+    tangent: vec4<f32>,
+    mirrored: bool,
+    geometric_front: vec3<f32>,
+) -> vec3<f32> {
+    let n = safe_normalize(interpolated, geometric_front);
+    if material.normal_texture.texture == NO_INDEX || (mesh_flags & MESH_HAS_TANGENTS) == 0u {
+        return n;
+    }
+    // Alpha -1 marks a lookup that found no texel (missing UV set or texture).
+    let texel = texture_sample_slot(material.normal_texture, uvs, mesh_flags, vec4<f32>(-1.0));
+    let t = safe_normalize(tangent.xyz - n * dot(n, tangent.xyz), vec3<f32>(0.0));
+    if texel.w < 0.0 || all(t == vec3<f32>(0.0)) {
+        return n;
+    }
+    let mirror = select(1.0, -1.0, mirrored);
+    let bitangent = cross(n, t) * sign(tangent.w) * mirror;
+    let m = (texel.xyz * 2.0 - 1.0) * vec3<f32>(material.normal_scale, material.normal_scale, 1.0);
+    return safe_normalize(t * m.x + bitangent * m.y + n * m.z, n);
+}
+
+// Normals turned toward the viewer, and whether the surface shades.
+struct OrientedNormals {
+    geometric: vec3<f32>,
+    shading: vec3<f32>,
+    shades: bool,
+}
+
+// Both front-side unit normals turned to the side `incoming` (the direction of travel of the
+// view ray) arrives from.
+fn orient_normals(
+    geometric_front: vec3<f32>,
+    shading_front: vec3<f32>,
+    incoming: vec3<f32>,
+    double_sided: bool,
+) -> OrientedNormals {
+    let front_facing = dot(incoming, geometric_front) < 0.0;
+    let side = select(-1.0, 1.0, front_facing);
+    var o: OrientedNormals;
+    o.geometric = geometric_front * side;
+    o.shading = shading_front * side;
+    if dot(o.shading, -incoming) <= 0.0 {
+        o.shading = o.geometric;
+    }
+    o.shades = front_facing || double_sided;
+    return o;
+}

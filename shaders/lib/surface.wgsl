@@ -1,0 +1,141 @@
+// Shading points, as chiaro_reference's surface module builds them: the surface the G-buffer
+// holds at a pixel, or the surface a ray hits (world position interpolated from the triangle's
+// vertices, interpolated and normal-mapped shading normal, textured material, front face
+// counter-clockwise and clockwise under a mirroring transform); the world triangles and the
+// emission of instances; the origin of a ray leaving a surface (Wachter and Binder, "A Fast
+// and Robust Method for Avoiding Self-Intersection", Ray Tracing Gems, 2019, in offset.wgsl).
+
+#import lib/generated.wgsl
+#import lib/alpha.wgsl
+#import lib/bvh.wgsl
+#import lib/scene_bindings.wgsl
+#import lib/textures.wgsl
+#import lib/frame.wgsl
+#import lib/brdf.wgsl
+#import lib/offset.wgsl
+#import lib/camera.wgsl
+#import lib/gbuffer_packing.wgsl
+#import lib/shading_normals.wgsl
+
+// A point that reflects light: where, its normals (the shading frame's z is the shading
+// normal; both on the side the view arrives from), the direction toward the viewer in the
+// local frame and the BRDF's parameters.
+struct Shading {
+    position: vec3<f32>,
+    geometric_normal: vec3<f32>,
+    frame: Frame,
+    wo: vec3<f32>,
+    params: SurfaceParams,
+}
+
+// The world vertices of a triangle of an instance, reordered (1 <-> 2) under a mirroring
+// transform so that the counter-clockwise normal is the front face's.
+struct WorldTriangle {
+    v0: vec3<f32>,
+    v1: vec3<f32>,
+    v2: vec3<f32>,
+    indices: vec3<u32>,
+    mirrored: bool,
+}
+
+fn world_triangle(instance: u32, triangle: u32) -> WorldTriangle {
+    let record = bvh_instances[instance];
+    let i = scene_triangle_indices(record.mesh, triangle);
+    let m = record.object_to_world;
+    let p0 = bvh_transform_point(m, scene_vertices[i.x].position);
+    let p1 = bvh_transform_point(m, scene_vertices[i.y].position);
+    let p2 = bvh_transform_point(m, scene_vertices[i.z].position);
+    let mirrored = scene_instance_extras[instance].mirrored != 0u;
+    if mirrored {
+        return WorldTriangle(p0, p2, p1, i, true);
+    }
+    return WorldTriangle(p0, p1, p2, i, false);
+}
+
+// The world point at mesh-order barycentrics b (of the mesh's vertices 1 and 2).
+fn world_triangle_point(t: WorldTriangle, b: vec2<f32>) -> vec3<f32> {
+    let m1 = select(t.v1, t.v2, t.mirrored);
+    let m2 = select(t.v2, t.v1, t.mirrored);
+    return t.v0 * (1.0 - b.x - b.y) + m1 * b.x + m2 * b.y;
+}
+
+// Emitted radiance of an instance's material at mesh-order barycentrics b.
+fn emission_at(instance: u32, indices: vec3<u32>, b: vec2<f32>) -> vec3<f32> {
+    let record = bvh_instances[instance];
+    let material = scene_materials[record.material];
+    let texel = texture_sample_slot(material.emissive_texture, scene_uvs(indices, b),
+        scene_meshes[record.mesh].flags, vec4<f32>(1.0));
+    return material.emission * texel.xyz;
+}
+
+// The shading point of a covered, shading G-buffer texel seen by `camera`.
+fn gbuffer_shading(g: GbufferSurface, camera: GpuCamera) -> Shading {
+    let material = scene_materials[bvh_instances[g.instance].material];
+    var s: Shading;
+    s.position = g.position;
+    s.geometric_normal = g.geometric_normal;
+    s.frame = frame_from_normal(g.shading_normal);
+    let to_eye = select(normalize(camera.origin - g.position), -camera.forward,
+        camera.orthographic != 0u);
+    s.wo = frame_to_local(s.frame, to_eye);
+    s.params = SurfaceParams(g.base_color, g.metallic, g.roughness, material.f0_dielectric,
+        material.absorption);
+    return s;
+}
+
+// The surface a ray hit; `shades` is false on the back face of a single-sided material
+// (which reflects and emits nothing).
+struct SurfaceHit {
+    shading: Shading,
+    shades: bool,
+}
+
+// The surface at `hit` of a ray travelling along `direction`.
+fn surface_at_hit(direction: vec3<f32>, hit: Hit) -> SurfaceHit {
+    let record = bvh_instances[hit.instance];
+    let material = scene_materials[record.material];
+    let mesh_flags = scene_meshes[record.mesh].flags;
+    let t = world_triangle(hit.instance, hit.triangle);
+    let b = hit.barycentrics;
+    let w = vec3<f32>(1.0 - b.x - b.y, b.x, b.y);
+    let v0 = scene_vertices[t.indices.x];
+    let v1 = scene_vertices[t.indices.y];
+    let v2 = scene_vertices[t.indices.z];
+    let normal = v0.normal * w.x + v1.normal * w.y + v2.normal * w.z;
+    let tangent = v0.tangent * w.x + v1.tangent * w.y + v2.tangent * w.z;
+    // The inverse transpose applied to the normal: the rows of world-to-object as columns.
+    let n2o = record.world_to_object;
+    let world_normal = n2o[0].xyz * normal.x + n2o[1].xyz * normal.y + n2o[2].xyz * normal.z;
+    let world_tangent = vec4<f32>(bvh_transform_vector(record.object_to_world, tangent.xyz),
+        tangent.w);
+    let uvs = scene_uvs(t.indices, b);
+    let geometric_front = safe_normalize(cross(t.v1 - t.v0, t.v2 - t.v0), vec3<f32>(0.0, 0.0, 1.0));
+    let shading_front = mapped_shading_normal(material, mesh_flags, uvs, world_normal,
+        world_tangent, t.mirrored, geometric_front);
+    let normals = orient_normals(geometric_front, shading_front, direction,
+        (material.flags & MATERIAL_DOUBLE_SIDED) != 0u);
+    let base = texture_sample_slot(material.base_color_texture, uvs, mesh_flags, vec4<f32>(1.0));
+    let metallic_roughness = texture_sample_slot(material.metallic_roughness_texture, uvs,
+        mesh_flags, vec4<f32>(1.0));
+    var s: Shading;
+    s.position = world_triangle_point(t, b);
+    s.geometric_normal = normals.geometric;
+    s.frame = frame_from_normal(normals.shading);
+    s.wo = frame_to_local(s.frame, -direction);
+    s.params = SurfaceParams(material.base_color.xyz * base.xyz,
+        clamp(material.metallic * metallic_roughness.z, 0.0, 1.0),
+        clamp(material.roughness * metallic_roughness.y, 0.0, 1.0), material.f0_dielectric,
+        material.absorption);
+    return SurfaceHit(s, normals.shades);
+}
+
+// A ray leaving the shading point along the world direction wi, its origin offset to the side
+// of the geometric normal wi points to.
+fn leaving_ray(s: Shading, wi: vec3<f32>) -> Ray {
+    let side = select(-s.geometric_normal, s.geometric_normal, dot(wi, s.geometric_normal) >= 0.0);
+    var ray: Ray;
+    ray.origin = offset_ray_origin(s.position, side);
+    ray.direction = wi;
+    ray.t_min = 0.0;
+    return ray;
+}
