@@ -16,8 +16,11 @@
 
 use crate::camera::GpuCamera;
 use crate::context::GpuContext;
+use crate::denoiser::Denoiser;
 use crate::gpu_scene::GpuScene;
-use crate::passes::composite::{COMPOSITE_DIRECT, COMPOSITE_PATHS, CompositeParams, CompositePass};
+use crate::passes::composite::{
+    COMPOSITE_DIRECT, COMPOSITE_FILTERED, COMPOSITE_PATHS, CompositeParams, CompositePass,
+};
 use crate::passes::direct::{DirectParams, DirectPass};
 use crate::passes::gbuffer::GbufferPass;
 use crate::passes::indirect::{IndirectParams, IndirectPass};
@@ -36,6 +39,12 @@ pub enum Pass {
     Direct,
     /// Indirect paths.
     Indirect,
+    /// Denoiser: temporal accumulation.
+    Temporal,
+    /// Denoiser: variance estimation.
+    Variance,
+    /// Denoiser: a-trous filter, all iterations.
+    Atrous,
     /// Composite and accumulation.
     Composite,
     /// Tonemapping.
@@ -49,6 +58,9 @@ impl Pass {
             Pass::Gbuffer => "gbuffer",
             Pass::Direct => "direct",
             Pass::Indirect => "indirect",
+            Pass::Temporal => "temporal",
+            Pass::Variance => "variance",
+            Pass::Atrous => "atrous",
             Pass::Composite => "composite",
             Pass::Tonemap => "tonemap",
         }
@@ -64,8 +76,16 @@ pub fn passes(settings: &FrameSettings) -> Vec<Pass> {
     if settings.mode != RenderMode::Direct {
         passes.push(Pass::Indirect);
     }
+    if denoises(settings) {
+        passes.extend([Pass::Temporal, Pass::Variance, Pass::Atrous]);
+    }
     passes.extend([Pass::Composite, Pass::Tonemap]);
     passes
+}
+
+/// Whether a frame of `settings` runs the denoiser.
+fn denoises(settings: &FrameSettings) -> bool {
+    settings.mode == RenderMode::Realtime && settings.denoise.enabled
 }
 
 /// What one frame takes besides the scene and the camera.
@@ -113,6 +133,9 @@ pub struct Frame {
     indirect: IndirectPass,
     composite: CompositePass,
     tonemap: TonemapPass,
+    denoiser: Denoiser,
+    /// Whether the last frame ran the denoiser (if not, its history is stale).
+    denoised: bool,
     camera: wgpu::Buffer,
     direct_params: wgpu::Buffer,
     indirect_params: wgpu::Buffer,
@@ -148,8 +171,8 @@ impl Frame {
         let composite_params =
             uniform_buffer(device, "composite params", size_of::<CompositeParams>());
         let tonemap_params = uniform_buffer(device, "tonemap params", size_of::<TonemapParams>());
-        // Frame wiring: the denoiser's output replaces this view once it runs.
-        let filtered = &targets.indirect.view;
+        let denoiser = Denoiser::new(device, &targets, &camera)?;
+        let filtered = denoiser.output();
         Ok(Self {
             camera_group: gbuffer.camera_bind_group(device, &camera),
             direct_group: direct.bind_group(device, &targets, &camera, &direct_params),
@@ -163,6 +186,8 @@ impl Frame {
             indirect,
             composite,
             tonemap,
+            denoiser,
+            denoised: false,
             camera,
             direct_params,
             indirect_params,
@@ -171,8 +196,13 @@ impl Frame {
         })
     }
 
+    /// The realtime mode's denoiser (its history and output, for tests and debug views).
+    pub fn denoiser(&self) -> &Denoiser {
+        &self.denoiser
+    }
+
     /// Writes the uniforms of the passes for this frame.
-    fn write_uniforms(&self, queue: &wgpu::Queue, camera: &GpuCamera, input: &FrameInput) {
+    fn write_uniforms(&mut self, queue: &wgpu::Queue, camera: &GpuCamera, input: &FrameInput) {
         let s = &input.settings;
         queue.write_buffer(&self.camera, 0, bytemuck::bytes_of(camera));
         let (seed_lo, seed_hi) = (input.seed as u32, (input.seed >> 32) as u32);
@@ -207,6 +237,7 @@ impl Frame {
             },
             source: match s.mode {
                 RenderMode::Direct => COMPOSITE_DIRECT,
+                _ if denoises(s) => COMPOSITE_FILTERED,
                 _ => COMPOSITE_PATHS,
             },
             pad: [0; 2],
@@ -214,6 +245,11 @@ impl Frame {
         queue.write_buffer(&self.composite_params, 0, bytemuck::bytes_of(&composite));
         let tonemap = TonemapParams::new(s.tonemapper, s.exposure);
         queue.write_buffer(&self.tonemap_params, 0, bytemuck::bytes_of(&tonemap));
+        if denoises(s) {
+            let reset = input.reset_history || !self.denoised;
+            self.denoiser.prepare(queue, &s.denoise, reset);
+        }
+        self.denoised = denoises(s);
     }
 
     /// Records `pass`, timed as the `index`th of the frame.
@@ -242,6 +278,15 @@ impl Frame {
                 t,
                 timer.compute(index),
             ),
+            Pass::Temporal => self
+                .denoiser
+                .record_temporal(encoder, t, timer.compute(index)),
+            Pass::Variance => self
+                .denoiser
+                .record_variance(encoder, t, timer.compute(index)),
+            Pass::Atrous => self
+                .denoiser
+                .record_atrous(encoder, t, timer.compute(index)),
             Pass::Composite => {
                 self.composite
                     .record(encoder, &self.composite_group, t, timer.compute(index))

@@ -29,6 +29,7 @@
 
 pub mod camera;
 pub mod context;
+pub mod denoiser;
 pub mod frame;
 pub mod gpu_scene;
 pub mod passes;
@@ -40,6 +41,7 @@ pub mod targets;
 pub mod timing;
 
 pub use context::{ContextError, GpuContext};
+pub use denoiser::Denoiser;
 pub use gpu_scene::{GpuScene, UploadStats, add_gpu_scene_systems, upload_gpu_scene};
 pub use renderer::{GbufferImage, RenderError, RenderOutput, RenderSettings, Renderer};
 pub use settings::{DenoiseSettings, FrameSettings, RenderMode, SettingsError};

@@ -26,7 +26,8 @@ pub struct Target {
 }
 
 impl Target {
-    fn new(
+    /// A texture of `format` and `size` with its default view, both labelled `label`.
+    pub fn new(
         device: &wgpu::Device,
         label: &str,
         format: wgpu::TextureFormat,

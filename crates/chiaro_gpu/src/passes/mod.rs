@@ -1,12 +1,15 @@
 //! The frame's passes, one file each with one `shaders/NAME.wgsl`, and what they share:
 //! shader modules from composed WGSL and bind-group layout entries.
 
+pub mod atrous;
 pub mod composite;
 pub mod direct;
 pub mod gbuffer;
 pub mod indirect;
 pub mod shading_pass;
+pub mod temporal;
 pub mod tonemap;
+pub mod variance;
 
 use crate::shaders::{self, ShaderError};
 

@@ -1,0 +1,92 @@
+// One iteration of the denoiser's edge-avoiding a-trous wavelet filter, after SVGF (Schied et
+// al., "Spatiotemporal Variance-Guided Filtering", HPG 2017, section 4.3; the a-trous scheme of
+// Dammertz et al., "Edge-Avoiding A-Trous Wavelet Transform for fast Global Illumination
+// Filtering", HPG 2010): a 5 x 5 B3-spline kernel (1/16, 1/4, 3/8, 1/4, 1/16) whose taps lie
+// `step` pixels apart, each weighted by SVGF's edge-stopping on depth (against the depth
+// gradient), normal and luminance (in standard deviations of the 3 x 3 Gaussian-prefiltered
+// variance). The colour is the demodulated lighting; the variance in alpha is filtered with
+// the squared weights, as the variance of a weighted mean.
+//
+// Pixels that are not a covered, shading surface pass through.
+
+#import lib/generated.wgsl
+#import lib/float.wgsl
+#import lib/denoise.wgsl
+
+@group(0) @binding(0) var<uniform> params: DenoiseParams;
+@group(0) @binding(1) var input: texture_2d<f32>;
+@group(0) @binding(2) var edges: texture_2d<f32>;
+@group(0) @binding(3) var output: texture_storage_2d<rgba32float, write>;
+
+// B3-spline weight of the tap `i` taps from the centre (0, 1 or 2).
+fn kernel(i: i32) -> f32 {
+    return select(select(0.0625, 0.25, i == 1), 0.375, i == 0);
+}
+
+// The centre's variance blurred by a 3 x 3 Gaussian (1/4 centre, 1/8 sides, 1/16 corners) over
+// the pixels that shade.
+fn prefiltered_variance(p: vec2<i32>, size: vec2<i32>) -> f32 {
+    var sum = 0.0;
+    var sum_w = 0.0;
+    for (var y = -1; y <= 1; y++) {
+        for (var x = -1; x <= 1; x++) {
+            let q = p + vec2<i32>(x, y);
+            if any(q < vec2<i32>(0)) || any(q >= size) {
+                continue;
+            }
+            if !denoise_edge_filtered(denoise_edge_decode(textureLoad(edges, q, 0))) {
+                continue;
+            }
+            let w = 0.25 / f32(1 << u32(abs(x) + abs(y)));
+            sum += w * textureLoad(input, q, 0).w;
+            sum_w += w;
+        }
+    }
+    return sum / sum_w;
+}
+
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = vec2<i32>(textureDimensions(output));
+    let p = vec2<i32>(id.xy);
+    if any(p >= size) {
+        return;
+    }
+    let centre = textureLoad(input, p, 0);
+    let e_p = denoise_edge_decode(textureLoad(edges, p, 0));
+    if !denoise_edge_filtered(e_p) {
+        textureStore(output, p, centre);
+        return;
+    }
+    let l_p = luminance(centre.xyz);
+    let sigma = params.sigma_luminance * sqrt(max(prefiltered_variance(p, size), 0.0));
+    let step = i32(params.step);
+    let w_centre = kernel(0) * kernel(0);
+    var sum_w = w_centre;
+    var sum_c = w_centre * centre.xyz;
+    var sum_v = w_centre * w_centre * centre.w;
+    for (var y = -2; y <= 2; y++) {
+        for (var x = -2; x <= 2; x++) {
+            if x == 0 && y == 0 {
+                continue;
+            }
+            let offset = vec2<i32>(x, y) * step;
+            let q = p + offset;
+            if any(q < vec2<i32>(0)) || any(q >= size) {
+                continue;
+            }
+            let c_q = textureLoad(input, q, 0);
+            let e_q = denoise_edge_decode(textureLoad(edges, q, 0));
+            let w = kernel(abs(x)) * kernel(abs(y))
+                * denoise_weight(e_p, e_q, vec2<f32>(offset), l_p, luminance(c_q.xyz), sigma, params);
+            sum_w += w;
+            sum_c += w * c_q.xyz;
+            sum_v += w * w * c_q.w;
+        }
+    }
+    var out = vec4<f32>(sum_c / sum_w, sum_v / (sum_w * sum_w));
+    if !(vec3_is_finite(out.xyz) && f32_is_finite(out.w)) {
+        out = centre;
+    }
+    textureStore(output, p, out);
+}
