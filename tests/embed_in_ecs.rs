@@ -6,8 +6,9 @@
 //! luminance is at least 0.05 (the lit box, not a black image); and the orbiting light shows:
 //! the frames with the light on the image's left (world +x: the camera looks down +z) and on
 //! its right (half an orbit later) differ, the left half brighter in the first and the right
-//! half brighter in the second, each by at least 5% of the half's luminance (measured: 27% and
-//! 50%).
+//! half brighter in the second, each by at least 3% of the half's luminance (measured: 9% and
+//! 36%; the temporal history carries part of the earlier frames into frame 4; a still light
+//! changes a half's mean by well under 1% between frames).
 
 mod common;
 
@@ -53,11 +54,11 @@ fn embedded_app_renders_its_animation() {
     let (left4, right4) = halves(&images[4].hdr, size as usize);
     eprintln!("light left: halves {left0:.4} {right0:.4}; light right: {left4:.4} {right4:.4}");
     assert!(
-        left0 > 1.05 * left4,
+        left0 > 1.03 * left4,
         "left half {left0} with the light left, {left4} right"
     );
     assert!(
-        right4 > 1.05 * right0,
+        right4 > 1.03 * right0,
         "right half {right4} with the light right, {right0} left"
     );
 }
