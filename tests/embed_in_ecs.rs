@@ -7,8 +7,7 @@
 //! the frames with the light on the image's left (world +x: the camera looks down +z) and on
 //! its right (half an orbit later) differ, the left half brighter in the first and the right
 //! half brighter in the second, each by at least 3% of the half's luminance (measured: 9% and
-//! 36%; the temporal history carries part of the earlier frames into frame 4; a still light
-//! changes a half's mean by well under 1% between frames).
+//! 36%: the temporal history carries part of the earlier frames into frame 4).
 
 mod common;
 
