@@ -17,41 +17,14 @@
 //! exhaust a 24 GB machine.
 
 mod common;
+mod hard_cases_common;
 
-use bevy_ecs::prelude::{Entity, Name, World};
-use chiaro_gpu::{FrameSettings, RenderMode, RenderSettings, Renderer};
+use bevy_ecs::prelude::World;
+use chiaro_gpu::{FrameSettings, RenderMode, Renderer};
 use chiaro_scene::builtin::HARD_CASES;
-use chiaro_scene::{ActiveCamera, Camera, load_scene};
+use chiaro_scene::load_scene;
 use glam::Vec3;
-
-/// Makes the camera of `case` the active one.
-fn view_case(world: &mut World, case: &str) {
-    let name = format!("{case} camera");
-    let mut cameras = world.query::<(Entity, &Name, &Camera)>();
-    let entity = cameras
-        .iter(world)
-        .find(|(_, n, _)| n.as_str() == name)
-        .map(|(e, _, _)| e)
-        .unwrap_or_else(|| panic!("no camera named '{name}'"));
-    world.insert_resource(ActiveCamera(entity));
-}
-
-fn settings(size: u32, frames: u32, seed: u64, frame: FrameSettings) -> RenderSettings {
-    RenderSettings {
-        width: size,
-        height: size,
-        frames,
-        seed,
-        frame,
-    }
-}
-
-fn mode(mode: RenderMode) -> FrameSettings {
-    FrameSettings {
-        mode,
-        ..FrameSettings::default()
-    }
-}
+use hard_cases_common::{mode, settings, view_case};
 
 fn all_finite(pixels: &[Vec3]) -> bool {
     pixels.iter().all(|p| p.is_finite())

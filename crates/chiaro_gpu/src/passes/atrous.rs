@@ -67,15 +67,13 @@ impl AtrousPass {
         targets: &FrameTargets,
         timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) {
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("atrous pass"),
-            timestamp_writes: timestamps,
-        });
-        pass.set_pipeline(&self.pipeline);
-        let (x, y) = super::workgroups(targets.width, targets.height);
-        for group in groups {
-            pass.set_bind_group(0, *group, &[]);
-            pass.dispatch_workgroups(x, y, 1);
-        }
+        super::dispatch_per_pixel(
+            encoder,
+            "atrous pass",
+            &self.pipeline,
+            groups,
+            targets,
+            timestamps,
+        );
     }
 }

@@ -114,13 +114,13 @@ impl CompositePass {
         targets: &FrameTargets,
         timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) {
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("composite pass"),
-            timestamp_writes: timestamps,
-        });
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, group, &[]);
-        let (x, y) = super::workgroups(targets.width, targets.height);
-        pass.dispatch_workgroups(x, y, 1);
+        super::dispatch_per_pixel(
+            encoder,
+            "composite pass",
+            &self.pipeline,
+            &[group],
+            targets,
+            timestamps,
+        );
     }
 }

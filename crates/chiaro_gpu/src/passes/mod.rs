@@ -93,6 +93,29 @@ pub fn compute_pipeline(
     )
 }
 
+/// Records one compute pass of `pipeline` over every pixel of `targets`: for each of `groups`
+/// in turn, the group at index 0 and one dispatch (passes with a single bind group pass one;
+/// the a-trous iterations pass one per iteration).
+pub fn dispatch_per_pixel(
+    encoder: &mut wgpu::CommandEncoder,
+    label: &str,
+    pipeline: &wgpu::ComputePipeline,
+    groups: &[&wgpu::BindGroup],
+    targets: &crate::targets::FrameTargets,
+    timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
+) {
+    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+        label: Some(label),
+        timestamp_writes: timestamps,
+    });
+    pass.set_pipeline(pipeline);
+    let (x, y) = workgroups(targets.width, targets.height);
+    for group in groups {
+        pass.set_bind_group(0, *group, &[]);
+        pass.dispatch_workgroups(x, y, 1);
+    }
+}
+
 /// Workgroups of 8 x 8 covering `width` x `height`.
 pub fn workgroups(width: u32, height: u32) -> (u32, u32) {
     (width.div_ceil(8), height.div_ceil(8))
