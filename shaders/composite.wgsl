@@ -4,9 +4,13 @@
 // where it sees one, its emission plus the light it reflects: the direct and indirect estimates
 // as they are (modes direct, reference and naive, and realtime without the denoiser), or the
 // denoiser's filtered lighting multiplied back by the demodulation albedo (realtime). The
-// running mean of independent frames is a progressive Monte Carlo estimate; the realtime mode
-// passes frames = 1, its history being the temporal pass's. Non-finite radiance never enters
-// the sum (DESIGN.md: tested by exponent bits).
+// running mean of independent frames is a progressive Monte Carlo estimate. The realtime mode
+// with its denoiser resolves instead: the G-buffer takes one jittered point per pixel, so the
+// emission, the environment and the albedo at silhouettes alias from frame to frame, and the
+// colour is averaged over frames along the motion vectors, its history clamped to the 3 x 3
+// neighbourhood of this frame's colours so that what moved leaves no ghost (temporal
+// anti-aliasing: Karis, "High Quality Temporal Supersampling", SIGGRAPH 2014 course). Non-finite
+// radiance never enters the sum or the history (DESIGN.md: tested by exponent bits).
 
 #import lib/generated.wgsl
 #import lib/float.wgsl
@@ -19,8 +23,10 @@ struct CompositeParams {
     frames: u32,
     // COMPOSITE_DIRECT, COMPOSITE_PATHS or COMPOSITE_FILTERED.
     source: u32,
-    pad0: u32,
-    pad1: u32,
+    // COMPOSITE_RESOLVE: average along the motion vectors; COMPOSITE_RESET: drop that history.
+    flags: u32,
+    // Least weight of this frame in the resolve's moving average.
+    resolve_floor: f32,
 }
 
 @group(0) @binding(0) var direct_light: texture_2d<f32>;
@@ -32,6 +38,9 @@ struct CompositeParams {
 @group(0) @binding(6) var<storage, read_write> accumulation: array<vec4<f32>>;
 @group(0) @binding(7) var<uniform> params: CompositeParams;
 @group(0) @binding(8) var hdr_out: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(9) var gbuffer_motion: texture_2d<u32>;
+@group(0) @binding(10) var<storage, read> resolve_previous: array<vec4<f32>>;
+@group(0) @binding(11) var<storage, read_write> resolve_next: array<vec4<f32>>;
 
 // This frame's radiance at a pixel.
 fn frame_radiance(pixel: vec2<i32>) -> vec3<f32> {
@@ -54,6 +63,63 @@ fn frame_radiance(pixel: vec2<i32>) -> vec3<f32> {
     return g.emission + lighting * demodulation_albedo(g.base_color);
 }
 
+// This frame's radiance with non-finite values replaced by 0.
+fn finite_radiance(pixel: vec2<i32>) -> vec3<f32> {
+    let x = frame_radiance(pixel);
+    return select(vec3<f32>(0.0), x, vec3_is_finite(x));
+}
+
+// The resolve's history at the previous frame's position `at` (pixel units, texel centres at
+// integer + 0.5): bilinear over the taps inside the image, renormalised; w = -1 if none is.
+fn resolve_history(at: vec2<f32>, size: vec2<i32>) -> vec4<f32> {
+    let f = at - 0.5;
+    let base = vec2<i32>(floor(f));
+    let t = f - floor(f);
+    var sum = vec4<f32>(0.0);
+    var total = 0.0;
+    for (var k = 0; k < 4; k++) {
+        let o = vec2<i32>(k & 1, k >> 1u);
+        let q = base + o;
+        let w = select(1.0 - t.x, t.x, o.x == 1) * select(1.0 - t.y, t.y, o.y == 1);
+        if all(q >= vec2<i32>(0)) && all(q < size) && w > 0.0 {
+            sum += w * resolve_previous[u32(q.y) * u32(size.x) + u32(q.x)];
+            total += w;
+        }
+    }
+    if total <= 0.0 {
+        return vec4<f32>(0.0, 0.0, 0.0, -1.0);
+    }
+    return sum / total;
+}
+
+// The resolved colour: this frame's `x` averaged with the history found along the motion
+// vector (bilinear), the history clamped to the range of this frame's 3 x 3 neighbourhood.
+fn resolve(pixel: vec2<i32>, size: vec2<i32>, x: vec3<f32>) -> vec4<f32> {
+    let motion = bitcast<vec2<f32>>(textureLoad(gbuffer_motion, pixel, 0).xy);
+    let valid = f32_is_finite(motion.x) && f32_is_finite(motion.y);
+    if (params.flags & COMPOSITE_RESET) != 0u || !valid {
+        return vec4<f32>(x, 1.0);
+    }
+    let history = resolve_history(vec2<f32>(pixel) + 0.5 + motion, size);
+    if history.w < 0.0 {
+        return vec4<f32>(x, 1.0);
+    }
+    var lo = x;
+    var hi = x;
+    for (var dy = -1; dy <= 1; dy++) {
+        for (var dx = -1; dx <= 1; dx++) {
+            let q = clamp(pixel + vec2<i32>(dx, dy), vec2<i32>(0), size - 1);
+            let c = finite_radiance(q);
+            lo = min(lo, c);
+            hi = max(hi, c);
+        }
+    }
+    let length = history.w + 1.0;
+    let weight = max(1.0 / length, params.resolve_floor);
+    let clamped = clamp(history.xyz, lo, hi);
+    return vec4<f32>(mix(clamped, x, weight), length);
+}
+
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = textureDimensions(hdr_out);
@@ -61,9 +127,12 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let index = id.y * size.x + id.x;
-    var x = frame_radiance(vec2<i32>(id.xy));
-    if !vec3_is_finite(x) {
-        x = vec3<f32>(0.0);
+    let x = finite_radiance(vec2<i32>(id.xy));
+    if (params.flags & COMPOSITE_RESOLVE) != 0u {
+        let resolved = resolve(vec2<i32>(id.xy), vec2<i32>(size), x);
+        resolve_next[index] = resolved;
+        textureStore(hdr_out, vec2<i32>(id.xy), vec4<f32>(resolved.xyz, 1.0));
+        return;
     }
     var sum = vec4<f32>(x, 1.0);
     if params.frames > 1u {

@@ -19,7 +19,8 @@ use crate::context::GpuContext;
 use crate::denoiser::Denoiser;
 use crate::gpu_scene::GpuScene;
 use crate::passes::composite::{
-    COMPOSITE_DIRECT, COMPOSITE_FILTERED, COMPOSITE_PATHS, CompositeParams, CompositePass,
+    COMPOSITE_DIRECT, COMPOSITE_FILTERED, COMPOSITE_PATHS, COMPOSITE_RESET, COMPOSITE_RESOLVE,
+    CompositeParams, CompositePass,
 };
 use crate::passes::direct::{DirectParams, DirectPass};
 use crate::passes::gbuffer::GbufferPass;
@@ -144,7 +145,8 @@ pub struct Frame {
     camera_group: wgpu::BindGroup,
     direct_group: wgpu::BindGroup,
     indirect_group: wgpu::BindGroup,
-    composite_group: wgpu::BindGroup,
+    composite_groups: [wgpu::BindGroup; 2],
+    resolve_parity: usize,
     tonemap_group: wgpu::BindGroup,
     timer: PassTimer,
 }
@@ -177,7 +179,10 @@ impl Frame {
             camera_group: gbuffer.camera_bind_group(device, &camera),
             direct_group: direct.bind_group(device, &targets, &camera, &direct_params),
             indirect_group: indirect.bind_group(device, &targets, &camera, &indirect_params),
-            composite_group: composite.bind_group(device, &targets, filtered, &composite_params),
+            composite_groups: [0, 1].map(|parity| {
+                composite.bind_group(device, &targets, filtered, &composite_params, parity)
+            }),
+            resolve_parity: 0,
             tonemap_group: tonemap.bind_group(device, &targets, &tonemap_params),
             timer: PassTimer::new(device, &context.queue, use_timestamps(context), MAX_PASSES),
             targets,
@@ -240,7 +245,13 @@ impl Frame {
                 _ if denoises(s) => COMPOSITE_FILTERED,
                 _ => COMPOSITE_PATHS,
             },
-            pad: [0; 2],
+            flags: if denoises(s) {
+                let reset = input.reset_history || !self.denoised;
+                COMPOSITE_RESOLVE | if reset { COMPOSITE_RESET } else { 0 }
+            } else {
+                0
+            },
+            resolve_floor: s.denoise.temporal_floor,
         };
         queue.write_buffer(&self.composite_params, 0, bytemuck::bytes_of(&composite));
         let tonemap = TonemapParams::new(s.tonemapper, s.exposure);
@@ -288,8 +299,10 @@ impl Frame {
                 .denoiser
                 .record_atrous(encoder, t, timer.compute(index)),
             Pass::Composite => {
+                let group = &self.composite_groups[self.resolve_parity];
                 self.composite
-                    .record(encoder, &self.composite_group, t, timer.compute(index))
+                    .record(encoder, group, t, timer.compute(index));
+                self.resolve_parity = 1 - self.resolve_parity;
             }
             Pass::Tonemap => {
                 self.tonemap

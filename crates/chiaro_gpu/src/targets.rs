@@ -84,6 +84,9 @@ pub struct FrameTargets {
     pub ldr: Target,
     /// Running sum of the frames' radiance (one `vec4<f32>` per pixel).
     pub accumulation: wgpu::Buffer,
+    /// The realtime mode's resolved colour and its history length (one `vec4<f32>` per pixel),
+    /// two of them: each frame reads one and writes the other.
+    pub resolve: [wgpu::Buffer; 2],
 }
 
 impl FrameTargets {
@@ -105,12 +108,21 @@ impl FrameTargets {
             indirect: Target::new(device, "indirect light", HDR_FORMAT, size, storage),
             hdr: Target::new(device, "hdr image", HDR_FORMAT, size, storage),
             ldr: Target::new(device, "ldr image", LDR_FORMAT, size, storage),
-            accumulation: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("accumulation"),
-                size: u64::from(width) * u64::from(height) * 16,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
+            accumulation: pixel_buffer(device, "accumulation", size),
+            resolve: [
+                pixel_buffer(device, "resolve history a", size),
+                pixel_buffer(device, "resolve history b", size),
+            ],
         }
     }
+}
+
+/// A storage buffer of one `vec4<f32>` per pixel.
+fn pixel_buffer(device: &wgpu::Device, label: &str, (width, height): (u32, u32)) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: u64::from(width) * u64::from(height) * 16,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
 }

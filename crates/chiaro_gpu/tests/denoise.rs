@@ -217,16 +217,16 @@ fn one_realtime_frame_beats_one_naive_frame() {
 }
 
 /// On a still camera the error against the converged reference falls from frame 1 to 4 to
-/// 16 to 64 (64 x 64, temporal floor 0.05; pixels beside the emitter left out, see
-/// [`away_from_emitters`]).
+/// 16, and 64 frames are no worse than 16 (64 x 64, temporal floor 0.05; pixels beside the
+/// emitter left out, see [`away_from_emitters`]).
 ///
-/// Measured: relMSE 1.77e-2, 1.61e-2, 1.42e-2, 1.12e-2 after 1, 4, 16, 64 frames (frame to
-/// frame it wanders by about 2e-3: sub-pixel edges follow the jitter). Away from depth edges
-/// too: 1.27e-2, 9.4e-3, 8.6e-3, 8.9e-3 (from 16 frames on, the filter's bias and the
-/// realtime bounce cap of 2 dominate; before the variance was divided by the moving average's
-/// sample count, 64 frames measured 1.61e-2 on the first mask). Asserted: each checkpoint
-/// below the previous one on the first mask, and 64 frames below 0.85 x one frame away from
-/// depth edges.
+/// Measured, with the composite's resolve: relMSE 1.77e-2, 1.22e-2, 9.75e-3, 9.71e-3 after 1,
+/// 4, 16, 64 frames; away from depth edges too: 1.27e-2, 1.02e-2, 8.6e-3, 8.8e-3. From 16
+/// frames on the error is at its floor: the bounce cap of 2 alone leaves about 4e-3 against
+/// the uncapped reference (BENCHMARKS.md), the filter's blur the rest. (Before the resolve,
+/// which averages the emission and the silhouettes over frames: 1.77e-2, 1.61e-2, 1.42e-2,
+/// 1.12e-2.) Asserted: 4 below 1, 16 below 4, 64 at most 2% above 16 and below 0.6 x one
+/// frame; away from depth edges, 64 frames below 0.85 x one frame.
 #[test]
 fn still_camera_error_falls_with_frames() {
     let Some(gpu) = common::gpu() else { return };
@@ -251,9 +251,9 @@ fn still_camera_error_falls_with_frames() {
         inside_errors.push((total, rel_mse(&out.hdr, reference, Some(&inside))));
     }
     eprintln!("still camera: relMSE by frames {errors:?}; away from depth edges {inside_errors:?}");
-    for pair in errors.windows(2) {
-        assert!(pair[1].1 < pair[0].1, "{errors:?}");
-    }
+    let e: Vec<f64> = errors.iter().map(|(_, e)| *e).collect();
+    assert!(e[1] < e[0] && e[2] < e[1], "{errors:?}");
+    assert!(e[3] <= 1.02 * e[2] && e[3] < 0.6 * e[0], "{errors:?}");
     assert!(
         inside_errors[3].1 < 0.85 * inside_errors[0].1,
         "{inside_errors:?}"
@@ -355,8 +355,9 @@ fn injected_non_finite_values_never_enter_history() {
 /// frame's relMSE against the converged reference of its own view stays under a bound; for
 /// scale, the same view after 60 frames of a still camera.
 ///
-/// Measured (reference 256 spp, pixels beside the emitter left out): relMSE 1.79e-2 after
-/// the pan, 1.75e-2 for 60 frames of the still final view. Asserted: below 3e-2.
+/// Measured (reference 256 spp, pixels beside the emitter left out): relMSE 1.81e-2 after
+/// the pan, 1.35e-2 for 60 frames of the still final view (the composite's resolve fetches its
+/// history bilinearly; with the nearest pixel the pan measured 2.7e-2). Asserted: below 3e-2.
 #[test]
 fn camera_pan_stays_close_to_the_reference() {
     let Some(gpu) = common::gpu() else { return };
@@ -394,8 +395,8 @@ const PAN_BOUND: f64 = 3e-2;
 /// than 10 points beyond what the fresh history's does (a ghost of the block would show as
 /// either).
 ///
-/// Measured (reference 256 spp): 83 revealed pixels, relMSE 1.26e-2 (fresh history 9.4e-3),
-/// mean luminance -13.8% (fresh history -9.0%: the filter's blur of the block's shadow).
+/// Measured (reference 256 spp): 83 revealed pixels, relMSE 8.3e-3 (fresh history 7.1e-3),
+/// mean luminance -12.6% (fresh history -11.4%: the filter's blur of the block's shadow).
 #[test]
 fn moved_object_leaves_no_ghost() {
     let Some(gpu) = common::gpu() else { return };

@@ -1,6 +1,7 @@
 //! `composite`: the frame's radiance from its parts (emission, direct and indirect light, or
 //! the denoiser's filtered lighting times the albedo), added to the running sum whose mean is
-//! the linear HDR image (progressive accumulation over frames; restarts when told).
+//! the linear HDR image (progressive accumulation over frames; restarts when told), or, in the
+//! denoised realtime mode, resolved over frames along the motion vectors.
 
 use bytemuck::{Pod, Zeroable};
 use wgpu::TextureSampleType as S;
@@ -14,6 +15,10 @@ pub const COMPOSITE_DIRECT: u32 = 0;
 pub const COMPOSITE_PATHS: u32 = 1;
 /// Source of the reflected light: the denoiser's filtered lighting times the albedo.
 pub const COMPOSITE_FILTERED: u32 = 2;
+/// Flag: resolve the colour over frames along the motion vectors (temporal anti-aliasing).
+pub const COMPOSITE_RESOLVE: u32 = 1;
+/// Flag: the resolve's history restarts.
+pub const COMPOSITE_RESET: u32 = 2;
 
 /// The constants `shaders/composite.wgsl` shares.
 pub fn constants() -> Vec<SharedConstant> {
@@ -21,6 +26,8 @@ pub fn constants() -> Vec<SharedConstant> {
         SharedConstant::U32("COMPOSITE_DIRECT", COMPOSITE_DIRECT),
         SharedConstant::U32("COMPOSITE_PATHS", COMPOSITE_PATHS),
         SharedConstant::U32("COMPOSITE_FILTERED", COMPOSITE_FILTERED),
+        SharedConstant::U32("COMPOSITE_RESOLVE", COMPOSITE_RESOLVE),
+        SharedConstant::U32("COMPOSITE_RESET", COMPOSITE_RESET),
     ]
 }
 
@@ -33,8 +40,10 @@ pub struct CompositeParams {
     /// Where the reflected light comes from: [`COMPOSITE_DIRECT`], [`COMPOSITE_PATHS`] or
     /// [`COMPOSITE_FILTERED`].
     pub source: u32,
-    /// Padding.
-    pub pad: [u32; 2],
+    /// [`COMPOSITE_RESOLVE`] and [`COMPOSITE_RESET`].
+    pub flags: u32,
+    /// Least weight of this frame in the resolve's moving average.
+    pub resolve_floor: f32,
 }
 
 /// The composite pass.
@@ -60,6 +69,9 @@ impl CompositePass {
                 e(6, storage(false)),
                 e(7, uniform()),
                 e(8, super::storage_texture(HDR_FORMAT)),
+                e(9, texture(S::Uint)),
+                e(10, storage(true)),
+                e(11, storage(false)),
             ],
         });
         let pipeline = super::compute_pipeline(
@@ -71,13 +83,15 @@ impl CompositePass {
         Ok(Self { pipeline, layout })
     }
 
-    /// The pass's bind group; `filtered` is the denoiser's output.
+    /// The pass's bind group; `filtered` is the denoiser's output; the resolve reads
+    /// `targets.resolve[parity]` and writes the other.
     pub fn bind_group(
         &self,
         device: &wgpu::Device,
         targets: &FrameTargets,
         filtered: &wgpu::TextureView,
         params: &wgpu::Buffer,
+        parity: usize,
     ) -> wgpu::BindGroup {
         let view = |binding, view| wgpu::BindGroupEntry {
             binding,
@@ -102,6 +116,15 @@ impl CompositePass {
                     resource: params.as_entire_binding(),
                 },
                 view(8, &targets.hdr.view),
+                view(9, &targets.motion.view),
+                wgpu::BindGroupEntry {
+                    binding: 10,
+                    resource: targets.resolve[parity].as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 11,
+                    resource: targets.resolve[1 - parity].as_entire_binding(),
+                },
             ],
         })
     }
