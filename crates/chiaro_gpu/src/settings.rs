@@ -163,7 +163,7 @@ impl FrameSettings {
         if !(d.temporal_floor > 0.0 && d.temporal_floor <= 1.0) {
             return fail("temporal_floor", d.temporal_floor.to_string(), "in (0, 1]");
         }
-        if d.atrous_iterations > 10 {
+        if d.atrous_iterations as usize > crate::denoiser::MAX_ATROUS_ITERATIONS {
             return fail(
                 "atrous_iterations",
                 d.atrous_iterations.to_string(),
