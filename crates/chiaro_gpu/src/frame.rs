@@ -209,6 +209,9 @@ impl Frame {
     /// Writes the uniforms of the passes for this frame.
     fn write_uniforms(&mut self, queue: &wgpu::Queue, camera: &GpuCamera, input: &FrameInput) {
         let s = &input.settings;
+        let denoised = denoises(s);
+        // The denoiser's and the resolve's histories restart together.
+        let reset_history = input.reset_history || !self.denoised;
         queue.write_buffer(&self.camera, 0, bytemuck::bytes_of(camera));
         let (seed_lo, seed_hi) = (input.seed as u32, (input.seed >> 32) as u32);
         let naive = s.mode == RenderMode::Naive;
@@ -242,25 +245,23 @@ impl Frame {
             },
             source: match s.mode {
                 RenderMode::Direct => COMPOSITE_DIRECT,
-                _ if denoises(s) => COMPOSITE_FILTERED,
+                _ if denoised => COMPOSITE_FILTERED,
                 _ => COMPOSITE_PATHS,
             },
-            flags: if denoises(s) {
-                let reset = input.reset_history || !self.denoised;
-                COMPOSITE_RESOLVE | if reset { COMPOSITE_RESET } else { 0 }
-            } else {
-                0
+            flags: match (denoised, reset_history) {
+                (false, _) => 0,
+                (true, false) => COMPOSITE_RESOLVE,
+                (true, true) => COMPOSITE_RESOLVE | COMPOSITE_RESET,
             },
             resolve_floor: s.denoise.temporal_floor,
         };
         queue.write_buffer(&self.composite_params, 0, bytemuck::bytes_of(&composite));
         let tonemap = TonemapParams::new(s.tonemapper, s.exposure);
         queue.write_buffer(&self.tonemap_params, 0, bytemuck::bytes_of(&tonemap));
-        if denoises(s) {
-            let reset = input.reset_history || !self.denoised;
-            self.denoiser.prepare(queue, &s.denoise, reset);
+        if denoised {
+            self.denoiser.prepare(queue, &s.denoise, reset_history);
         }
-        self.denoised = denoises(s);
+        self.denoised = denoised;
     }
 
     /// Records `pass`, timed as the `index`th of the frame.

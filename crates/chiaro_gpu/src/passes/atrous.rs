@@ -3,13 +3,13 @@
 
 use wgpu::TextureSampleType as S;
 
+use super::{ComputeStage, view};
 use crate::shaders::ShaderError;
 use crate::targets::{FrameTargets, HDR_FORMAT};
 
 /// The a-trous pass.
 pub struct AtrousPass {
-    pipeline: wgpu::ComputePipeline,
-    layout: wgpu::BindGroupLayout,
+    stage: ComputeStage,
 }
 
 impl AtrousPass {
@@ -17,18 +17,15 @@ impl AtrousPass {
     pub fn new(device: &wgpu::Device) -> Result<Self, ShaderError> {
         use super::{compute_entry as e, storage_texture, texture, uniform};
         let float = || texture(S::Float { filterable: false });
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("atrous layout"),
-            entries: &[
-                e(0, uniform()),
-                e(1, float()),
-                e(2, float()),
-                e(3, storage_texture(HDR_FORMAT)),
-            ],
-        });
-        let pipeline =
-            super::compute_pipeline(device, "atrous pipeline", "atrous.wgsl", &[Some(&layout)])?;
-        Ok(Self { pipeline, layout })
+        let entries = [
+            e(0, uniform()),
+            e(1, float()),
+            e(2, float()),
+            e(3, storage_texture(HDR_FORMAT)),
+        ];
+        Ok(Self {
+            stage: ComputeStage::new(device, "atrous", &entries)?,
+        })
     }
 
     /// The bind group of one iteration: its uniform (with its step), the input (colour and
@@ -39,24 +36,16 @@ impl AtrousPass {
         params: wgpu::BufferBinding<'_>,
         views: [&wgpu::TextureView; 3],
     ) -> wgpu::BindGroup {
-        let mut entries = vec![wgpu::BindGroupEntry {
-            binding: 0,
-            resource: wgpu::BindingResource::Buffer(params),
-        }];
-        entries.extend(
-            views
-                .iter()
-                .zip(1..)
-                .map(|(view, binding)| wgpu::BindGroupEntry {
-                    binding,
-                    resource: wgpu::BindingResource::TextureView(view),
-                }),
-        );
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("atrous bind group"),
-            layout: &self.layout,
-            entries: &entries,
-        })
+        let [input, edges, output] = views;
+        self.stage.bind_group(
+            device,
+            vec![
+                wgpu::BindingResource::Buffer(params),
+                view(input),
+                view(edges),
+                view(output),
+            ],
+        )
     }
 
     /// Records the iterations (`groups`, in order) in one compute pass.
@@ -67,13 +56,6 @@ impl AtrousPass {
         targets: &FrameTargets,
         timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) {
-        super::dispatch_per_pixel(
-            encoder,
-            "atrous pass",
-            &self.pipeline,
-            groups,
-            targets,
-            timestamps,
-        );
+        self.stage.record(encoder, groups, targets, timestamps);
     }
 }

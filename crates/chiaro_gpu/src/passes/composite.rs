@@ -6,6 +6,7 @@
 use bytemuck::{Pod, Zeroable};
 use wgpu::TextureSampleType as S;
 
+use super::{ComputeStage, view};
 use crate::shaders::{ShaderError, SharedConstant};
 use crate::targets::{FrameTargets, HDR_FORMAT};
 
@@ -48,8 +49,7 @@ pub struct CompositeParams {
 
 /// The composite pass.
 pub struct CompositePass {
-    pipeline: wgpu::ComputePipeline,
-    layout: wgpu::BindGroupLayout,
+    stage: ComputeStage,
 }
 
 impl CompositePass {
@@ -57,30 +57,23 @@ impl CompositePass {
     pub fn new(device: &wgpu::Device) -> Result<Self, ShaderError> {
         use super::{compute_entry as e, storage, texture, uniform};
         let float = S::Float { filterable: false };
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("composite layout"),
-            entries: &[
-                e(0, texture(float)),
-                e(1, texture(float)),
-                e(2, texture(float)),
-                e(3, texture(S::Uint)),
-                e(4, texture(S::Uint)),
-                e(5, texture(S::Uint)),
-                e(6, storage(false)),
-                e(7, uniform()),
-                e(8, super::storage_texture(HDR_FORMAT)),
-                e(9, texture(S::Uint)),
-                e(10, storage(true)),
-                e(11, storage(false)),
-            ],
-        });
-        let pipeline = super::compute_pipeline(
-            device,
-            "composite pipeline",
-            "composite.wgsl",
-            &[Some(&layout)],
-        )?;
-        Ok(Self { pipeline, layout })
+        let entries = [
+            e(0, texture(float)),
+            e(1, texture(float)),
+            e(2, texture(float)),
+            e(3, texture(S::Uint)),
+            e(4, texture(S::Uint)),
+            e(5, texture(S::Uint)),
+            e(6, storage(false)),
+            e(7, uniform()),
+            e(8, super::storage_texture(HDR_FORMAT)),
+            e(9, texture(S::Uint)),
+            e(10, storage(true)),
+            e(11, storage(false)),
+        ];
+        Ok(Self {
+            stage: ComputeStage::new(device, "composite", &entries)?,
+        })
     }
 
     /// The pass's bind group; `filtered` is the denoiser's output; the resolve reads
@@ -93,40 +86,23 @@ impl CompositePass {
         params: &wgpu::Buffer,
         parity: usize,
     ) -> wgpu::BindGroup {
-        let view = |binding, view| wgpu::BindGroupEntry {
-            binding,
-            resource: wgpu::BindingResource::TextureView(view),
-        };
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("composite bind group"),
-            layout: &self.layout,
-            entries: &[
-                view(0, &targets.direct.view),
-                view(1, &targets.indirect.view),
-                view(2, filtered),
-                view(3, &targets.position.view),
-                view(4, &targets.surface.view),
-                view(5, &targets.emission.view),
-                wgpu::BindGroupEntry {
-                    binding: 6,
-                    resource: targets.accumulation.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 7,
-                    resource: params.as_entire_binding(),
-                },
-                view(8, &targets.hdr.view),
-                view(9, &targets.motion.view),
-                wgpu::BindGroupEntry {
-                    binding: 10,
-                    resource: targets.resolve[parity].as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 11,
-                    resource: targets.resolve[1 - parity].as_entire_binding(),
-                },
+        self.stage.bind_group(
+            device,
+            vec![
+                view(&targets.direct.view),
+                view(&targets.indirect.view),
+                view(filtered),
+                view(&targets.position.view),
+                view(&targets.surface.view),
+                view(&targets.emission.view),
+                targets.accumulation.as_entire_binding(),
+                params.as_entire_binding(),
+                view(&targets.hdr.view),
+                view(&targets.motion.view),
+                targets.resolve[parity].as_entire_binding(),
+                targets.resolve[1 - parity].as_entire_binding(),
             ],
-        })
+        )
     }
 
     /// Records the pass.
@@ -137,13 +113,6 @@ impl CompositePass {
         targets: &FrameTargets,
         timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) {
-        super::dispatch_per_pixel(
-            encoder,
-            "composite pass",
-            &self.pipeline,
-            &[group],
-            targets,
-            timestamps,
-        );
+        self.stage.record(encoder, &[group], targets, timestamps);
     }
 }

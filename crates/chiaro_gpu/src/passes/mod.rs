@@ -93,10 +93,84 @@ pub fn compute_pipeline(
     )
 }
 
+/// A compute shader with one bind group whose bindings are numbered 0, 1, 2, ... in order:
+/// `shaders/NAME.wgsl`, its layout and its pipeline, labelled by its name.
+pub struct ComputeStage {
+    name: &'static str,
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+}
+
+impl ComputeStage {
+    /// The stage of `shaders/{name}.wgsl` over `entries` (bindings 0, 1, 2, ...).
+    pub fn new(
+        device: &wgpu::Device,
+        name: &'static str,
+        entries: &[wgpu::BindGroupLayoutEntry],
+    ) -> Result<Self, ShaderError> {
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some(&format!("{name} layout")),
+            entries,
+        });
+        let pipeline = compute_pipeline(
+            device,
+            &format!("{name} pipeline"),
+            &format!("{name}.wgsl"),
+            &[Some(&layout)],
+        )?;
+        Ok(Self {
+            name,
+            pipeline,
+            layout,
+        })
+    }
+
+    /// A bind group of `resources`, the `i`th at binding `i`.
+    pub fn bind_group(
+        &self,
+        device: &wgpu::Device,
+        resources: Vec<wgpu::BindingResource<'_>>,
+    ) -> wgpu::BindGroup {
+        let entries: Vec<wgpu::BindGroupEntry<'_>> = resources
+            .into_iter()
+            .zip(0..)
+            .map(|(resource, binding)| wgpu::BindGroupEntry { binding, resource })
+            .collect();
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(&format!("{} bind group", self.name)),
+            layout: &self.layout,
+            entries: &entries,
+        })
+    }
+
+    /// Records one compute pass over every pixel of `targets`, one dispatch per bind group.
+    pub fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        groups: &[&wgpu::BindGroup],
+        targets: &crate::targets::FrameTargets,
+        timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) {
+        dispatch_per_pixel(
+            encoder,
+            &format!("{} pass", self.name),
+            &self.pipeline,
+            groups,
+            targets,
+            timestamps,
+        );
+    }
+}
+
+/// A texture view as a binding.
+pub fn view(view: &wgpu::TextureView) -> wgpu::BindingResource<'_> {
+    wgpu::BindingResource::TextureView(view)
+}
+
 /// Records one compute pass of `pipeline` over every pixel of `targets`: for each of `groups`
 /// in turn, the group at index 0 and one dispatch (passes with a single bind group pass one;
 /// the a-trous iterations pass one per iteration).
-pub fn dispatch_per_pixel(
+fn dispatch_per_pixel(
     encoder: &mut wgpu::CommandEncoder,
     label: &str,
     pipeline: &wgpu::ComputePipeline,

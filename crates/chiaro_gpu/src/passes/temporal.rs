@@ -4,6 +4,7 @@
 
 use wgpu::TextureSampleType as S;
 
+use super::{ComputeStage, view};
 use crate::shaders::ShaderError;
 use crate::targets::{FrameTargets, HDR_FORMAT};
 
@@ -31,8 +32,7 @@ pub struct TemporalResources<'a> {
 
 /// The temporal pass.
 pub struct TemporalPass {
-    pipeline: wgpu::ComputePipeline,
-    layout: wgpu::BindGroupLayout,
+    stage: ComputeStage,
 }
 
 impl TemporalPass {
@@ -49,17 +49,9 @@ impl TemporalPass {
         entries.extend((4..=10).map(|b| e(b, texture(S::Uint))));
         entries.extend([e(11, float()), e(12, float())]);
         entries.extend((13..=16).map(|b| e(b, storage_texture(HDR_FORMAT))));
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("temporal layout"),
-            entries: &entries,
-        });
-        let pipeline = super::compute_pipeline(
-            device,
-            "temporal pipeline",
-            "temporal.wgsl",
-            &[Some(&layout)],
-        )?;
-        Ok(Self { pipeline, layout })
+        Ok(Self {
+            stage: ComputeStage::new(device, "temporal", &entries)?,
+        })
     }
 
     /// The pass's bind group.
@@ -86,30 +78,12 @@ impl TemporalPass {
             r.edges,
             r.lighting,
         ];
-        let mut entries = vec![
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: r.camera.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: wgpu::BindingResource::Buffer(r.params.clone()),
-            },
+        let mut resources = vec![
+            r.camera.as_entire_binding(),
+            wgpu::BindingResource::Buffer(r.params.clone()),
         ];
-        entries.extend(
-            views
-                .iter()
-                .zip(2..)
-                .map(|(view, binding)| wgpu::BindGroupEntry {
-                    binding,
-                    resource: wgpu::BindingResource::TextureView(view),
-                }),
-        );
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("temporal bind group"),
-            layout: &self.layout,
-            entries: &entries,
-        })
+        resources.extend(views.map(view));
+        self.stage.bind_group(device, resources)
     }
 
     /// Records the pass.
@@ -120,13 +94,6 @@ impl TemporalPass {
         targets: &FrameTargets,
         timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) {
-        super::dispatch_per_pixel(
-            encoder,
-            "temporal pass",
-            &self.pipeline,
-            &[group],
-            targets,
-            timestamps,
-        );
+        self.stage.record(encoder, &[group], targets, timestamps);
     }
 }

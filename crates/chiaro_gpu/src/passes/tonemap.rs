@@ -4,6 +4,7 @@
 use bytemuck::{Pod, Zeroable};
 use chiaro_shading::tonemap::Tonemapper;
 
+use super::{ComputeStage, view};
 use crate::shaders::ShaderError;
 use crate::targets::{FrameTargets, LDR_FORMAT};
 
@@ -37,28 +38,24 @@ impl TonemapParams {
 
 /// The tonemap pass.
 pub struct TonemapPass {
-    pipeline: wgpu::ComputePipeline,
-    layout: wgpu::BindGroupLayout,
+    stage: ComputeStage,
 }
 
 impl TonemapPass {
     /// The pipeline.
     pub fn new(device: &wgpu::Device) -> Result<Self, ShaderError> {
         use super::{compute_entry as e, texture, uniform};
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("tonemap layout"),
-            entries: &[
-                e(
-                    0,
-                    texture(wgpu::TextureSampleType::Float { filterable: false }),
-                ),
-                e(1, uniform()),
-                e(2, super::storage_texture(LDR_FORMAT)),
-            ],
-        });
-        let pipeline =
-            super::compute_pipeline(device, "tonemap pipeline", "tonemap.wgsl", &[Some(&layout)])?;
-        Ok(Self { pipeline, layout })
+        let entries = [
+            e(
+                0,
+                texture(wgpu::TextureSampleType::Float { filterable: false }),
+            ),
+            e(1, uniform()),
+            e(2, super::storage_texture(LDR_FORMAT)),
+        ];
+        Ok(Self {
+            stage: ComputeStage::new(device, "tonemap", &entries)?,
+        })
     }
 
     /// The pass's bind group.
@@ -68,24 +65,14 @@ impl TonemapPass {
         targets: &FrameTargets,
         params: &wgpu::Buffer,
     ) -> wgpu::BindGroup {
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("tonemap bind group"),
-            layout: &self.layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(&targets.hdr.view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: params.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::TextureView(&targets.ldr.view),
-                },
+        self.stage.bind_group(
+            device,
+            vec![
+                view(&targets.hdr.view),
+                params.as_entire_binding(),
+                view(&targets.ldr.view),
             ],
-        })
+        )
     }
 
     /// Records the pass.
@@ -96,13 +83,6 @@ impl TonemapPass {
         targets: &FrameTargets,
         timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) {
-        super::dispatch_per_pixel(
-            encoder,
-            "tonemap pass",
-            &self.pipeline,
-            &[group],
-            targets,
-            timestamps,
-        );
+        self.stage.record(encoder, &[group], targets, timestamps);
     }
 }

@@ -4,13 +4,13 @@
 
 use wgpu::TextureSampleType as S;
 
+use super::{ComputeStage, view};
 use crate::shaders::ShaderError;
 use crate::targets::{FrameTargets, HDR_FORMAT};
 
 /// The variance pass.
 pub struct VariancePass {
-    pipeline: wgpu::ComputePipeline,
-    layout: wgpu::BindGroupLayout,
+    stage: ComputeStage,
 }
 
 impl VariancePass {
@@ -18,23 +18,16 @@ impl VariancePass {
     pub fn new(device: &wgpu::Device) -> Result<Self, ShaderError> {
         use super::{compute_entry as e, storage_texture, texture, uniform};
         let float = || texture(S::Float { filterable: false });
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("variance layout"),
-            entries: &[
-                e(0, uniform()),
-                e(1, float()),
-                e(2, float()),
-                e(3, float()),
-                e(4, storage_texture(HDR_FORMAT)),
-            ],
-        });
-        let pipeline = super::compute_pipeline(
-            device,
-            "variance pipeline",
-            "variance.wgsl",
-            &[Some(&layout)],
-        )?;
-        Ok(Self { pipeline, layout })
+        let entries = [
+            e(0, uniform()),
+            e(1, float()),
+            e(2, float()),
+            e(3, float()),
+            e(4, storage_texture(HDR_FORMAT)),
+        ];
+        Ok(Self {
+            stage: ComputeStage::new(device, "variance", &entries)?,
+        })
     }
 
     /// The pass's bind group: the uniform, the integrated colour, the moments, the edge data
@@ -45,24 +38,9 @@ impl VariancePass {
         params: wgpu::BufferBinding<'_>,
         views: [&wgpu::TextureView; 4],
     ) -> wgpu::BindGroup {
-        let mut entries = vec![wgpu::BindGroupEntry {
-            binding: 0,
-            resource: wgpu::BindingResource::Buffer(params),
-        }];
-        entries.extend(
-            views
-                .iter()
-                .zip(1..)
-                .map(|(view, binding)| wgpu::BindGroupEntry {
-                    binding,
-                    resource: wgpu::BindingResource::TextureView(view),
-                }),
-        );
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("variance bind group"),
-            layout: &self.layout,
-            entries: &entries,
-        })
+        let mut resources = vec![wgpu::BindingResource::Buffer(params)];
+        resources.extend(views.map(view));
+        self.stage.bind_group(device, resources)
     }
 
     /// Records the pass.
@@ -73,13 +51,6 @@ impl VariancePass {
         targets: &FrameTargets,
         timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) {
-        super::dispatch_per_pixel(
-            encoder,
-            "variance pass",
-            &self.pipeline,
-            &[group],
-            targets,
-            timestamps,
-        );
+        self.stage.record(encoder, &[group], targets, timestamps);
     }
 }
