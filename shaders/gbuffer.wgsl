@@ -11,6 +11,7 @@
 #import lib/bvh_bindings.wgsl
 #import lib/scene_bindings.wgsl
 #import lib/textures.wgsl
+#import lib/features.wgsl
 #import lib/shading_normals.wgsl
 #import lib/camera.wgsl
 #import lib/gbuffer_packing.wgsl
@@ -87,8 +88,9 @@ fn fs_main(in: VertexOut) -> GbufferOut {
     let record = bvh_instances[in.instance];
     let material = scene_materials[record.material];
     let mesh_flags = scene_meshes[record.mesh].flags;
-    let base = texture_sample_slot(material.base_color_texture, in.uvs, mesh_flags, vec4<f32>(1.0));
-    if (material.flags & MATERIAL_ALPHA_MASK) != 0u && !(material.base_color.w * base.w >= material.alpha_cutoff) {
+    let base = texture_sample_feature(FEATURE_BASE_COLOR_TEXTURES, material.base_color_texture,
+        in.uvs, mesh_flags, vec4<f32>(1.0));
+    if FEATURE_ALPHA_MASKS && (material.flags & MATERIAL_ALPHA_MASK) != 0u && !(material.base_color.w * base.w >= material.alpha_cutoff) {
         discard;
     }
     let view = in.world - camera.origin;
@@ -100,10 +102,12 @@ fn fs_main(in: VertexOut) -> GbufferOut {
     let normals = orient_normals(geometric_front, shading_front, incoming,
         (material.flags & MATERIAL_DOUBLE_SIDED) != 0u);
     let shades = normals.shades;
-    let metallic_roughness = texture_sample_slot(material.metallic_roughness_texture, in.uvs, mesh_flags, vec4<f32>(1.0));
+    let metallic_roughness = texture_sample_feature(FEATURE_METALLIC_ROUGHNESS_TEXTURES,
+        material.metallic_roughness_texture, in.uvs, mesh_flags, vec4<f32>(1.0));
     var emission = vec3<f32>(0.0);
     if shades {
-        emission = material.emission * texture_sample_slot(material.emissive_texture, in.uvs, mesh_flags, vec4<f32>(1.0)).xyz;
+        emission = material.emission * texture_sample_feature(FEATURE_EMISSIVE_TEXTURES,
+            material.emissive_texture, in.uvs, mesh_flags, vec4<f32>(1.0)).xyz;
     }
     var surface: GbufferSurface;
     surface.position = in.world;

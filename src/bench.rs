@@ -37,6 +37,9 @@ pub struct BenchArgs {
     /// Frames rendered before timing starts.
     #[arg(long, default_value_t = 2)]
     warmup: u32,
+    /// Only these configurations (by name, as the table lists them); all by default.
+    #[arg(long, value_delimiter = ',')]
+    configs: Vec<String>,
 }
 
 /// Runs the benchmark, showing progress, and prints the markdown table.
@@ -55,7 +58,21 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             })
             .collect()
     };
-    let configs = default_configs();
+    let mut configs = default_configs();
+    if !args.configs.is_empty() {
+        if let Some(unknown) = args
+            .configs
+            .iter()
+            .find(|name| !configs.iter().any(|c| &c.name == *name))
+        {
+            let known: Vec<_> = configs.iter().map(|c| c.name.as_str()).collect();
+            bail!(
+                "unknown configuration '{unknown}' (known: {})",
+                known.join(", ")
+            );
+        }
+        configs.retain(|c| args.configs.contains(&c.name));
+    }
     let settings = BenchSettings {
         width: args.size.0,
         height: args.size.1,

@@ -6,15 +6,19 @@
 #import lib/bvh_bindings.wgsl
 #import lib/scene_bindings.wgsl
 #import lib/textures.wgsl
+#import lib/features.wgsl
 
 fn hit_accepted(instance: u32, triangle: u32, barycentrics: vec2<f32>) -> bool {
+    if !FEATURE_ALPHA_MASKS {
+        return true;
+    }
     let record = bvh_instances[instance];
     let material = scene_materials[record.material];
     if (material.flags & MATERIAL_ALPHA_MASK) == 0u {
         return true;
     }
     let uvs = scene_uvs(scene_triangle_indices(record.mesh, triangle), barycentrics);
-    let texel = texture_sample_slot(material.base_color_texture, uvs,
+    let texel = texture_sample_feature(FEATURE_BASE_COLOR_TEXTURES, material.base_color_texture, uvs,
         scene_meshes[record.mesh].flags, vec4<f32>(1.0));
     return material.base_color.w * texel.w >= material.alpha_cutoff;
 }

@@ -22,11 +22,12 @@
 #import lib/environment.wgsl
 #import lib/offset.wgsl
 #import lib/surface.wgsl
+#import lib/features.wgsl
 
 fn scene_environment() -> Environment {
     var e: Environment;
     e.radiance = scene_info.env_radiance;
-    e.image = scene_info.env_kind == ENV_IMAGE;
+    e.image = FEATURE_ENVIRONMENT_MAP && scene_info.env_kind == ENV_IMAGE;
     e.black = false;
     e.width = scene_info.env_width;
     e.height = scene_info.env_height;
@@ -37,7 +38,7 @@ fn scene_environment() -> Environment {
 
 // Radiance arriving from the environment along world direction dir.
 fn environment_seen(dir: vec3<f32>) -> vec3<f32> {
-    if scene_info.env_kind == ENV_BLACK {
+    if !FEATURE_ENVIRONMENT || scene_info.env_kind == ENV_BLACK {
         return vec3<f32>(0.0);
     }
     return environment_radiance(scene_environment(), dir);
@@ -92,28 +93,40 @@ fn light_table_pick(u: f32, count: u32, area: bool) -> u32 {
     return lo;
 }
 
+// A punctual light seen from p; a kind the pipeline is specialised without gives none.
 fn sample_punctual(light: GpuLight, p: vec3<f32>) -> LightSample {
-    if light.kind == LIGHT_POINT {
+    if FEATURE_POINT_LIGHTS && light.kind == LIGHT_POINT {
         return sample_point(light.position, light.intensity, light.range, p);
     }
-    if light.kind == LIGHT_SPOT {
+    if FEATURE_SPOT_LIGHTS && light.kind == LIGHT_SPOT {
         return sample_spot(light.position, light.direction, light.intensity, light.inner,
             light.outer, light.range, p);
     }
-    return sample_directional(light.direction, light.intensity);
+    if FEATURE_DIRECTIONAL_LIGHTS && light.kind == LIGHT_DIRECTIONAL {
+        return sample_directional(light.direction, light.intensity);
+    }
+    return light_sample_none();
 }
 
 // Every punctual light when there are few, else one picked by power (over its probability).
 fn punctual_light(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
     let count = scene_info.light_count;
+    let any_kind = FEATURE_POINT_LIGHTS || FEATURE_SPOT_LIGHTS || FEATURE_DIRECTIONAL_LIGHTS;
     var total = vec3<f32>(0.0);
     if count <= ALL_PUNCTUAL_LIGHTS_MAX {
-        for (var i = 0u; i < count; i++) {
-            total += light_contribution(s, sample_punctual(scene_lights[i], s.position)).xyz;
+        if any_kind {
+            for (var i = 0u; i < count; i++) {
+                total += light_contribution(s, sample_punctual(scene_lights[i], s.position)).xyz;
+            }
         }
         return total;
     }
-    let light = scene_lights[light_table_pick(pcg32_next_f32(rng), count, false)];
+    // Drawn whatever the features, so that the random numbers after it stay the same.
+    let u = pcg32_next_f32(rng);
+    if !any_kind {
+        return total;
+    }
+    let light = scene_lights[light_table_pick(u, count, false)];
     return light_contribution(s, sample_punctual(light, s.position)).xyz / light.pmf;
 }
 
@@ -126,11 +139,13 @@ fn area_light(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
         return vec3<f32>(0.0);
     }
     let entry = scene_area_lights[light_table_pick(u_pick, count, true)];
-    var ls: LightSample;
+    var ls = light_sample_none();
     if entry.instance == NO_INDEX {
-        let es = environment_sample(scene_environment(), u);
-        ls = LightSample(es.wi, f32_infinity(), es.radiance, es.pdf, false, es.pdf > 0.0);
-    } else {
+        if FEATURE_ENVIRONMENT {
+            let es = environment_sample(scene_environment(), u);
+            ls = LightSample(es.wi, f32_infinity(), es.radiance, es.pdf, false, es.pdf > 0.0);
+        }
+    } else if FEATURE_EMISSIVE_TRIANGLES {
         let t = world_triangle(entry.instance, entry.triangle);
         let b = uniform_triangle(u);
         let mesh_b = select(b, b.yx, t.mirrored);
@@ -159,7 +174,7 @@ fn next_event(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
 // from `source`; without, weight 1 (delta bounces, and paths that never sample lights).
 fn emission_reached(source: vec3<f32>, wi: vec3<f32>, hit: Hit, brdf_pdf: f32, weighted: bool) -> vec3<f32> {
     if hit.instance == BVH_NO_HIT {
-        if scene_info.env_kind == ENV_BLACK {
+        if !FEATURE_ENVIRONMENT || scene_info.env_kind == ENV_BLACK {
             return vec3<f32>(0.0);
         }
         let env = scene_environment();
@@ -168,6 +183,9 @@ fn emission_reached(source: vec3<f32>, wi: vec3<f32>, hit: Hit, brdf_pdf: f32, w
             weight = power_heuristic(1.0, brdf_pdf, 1.0, scene_info.env_pmf * environment_pdf(env, wi));
         }
         return environment_radiance(env, wi) * weight;
+    }
+    if !FEATURE_EMISSIVE_TRIANGLES {
+        return vec3<f32>(0.0);
     }
     let record = bvh_instances[hit.instance];
     let material = scene_materials[record.material];

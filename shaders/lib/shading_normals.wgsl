@@ -7,6 +7,7 @@
 #import lib/generated.wgsl
 #import lib/scene_bindings.wgsl
 #import lib/textures.wgsl
+#import lib/features.wgsl
 
 // v / |v|, or `fallback` when the length is zero or not finite.
 fn safe_normalize(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
@@ -28,7 +29,8 @@ fn mapped_shading_normal(
     geometric_front: vec3<f32>,
 ) -> vec3<f32> {
     let n = safe_normalize(interpolated, geometric_front);
-    if material.normal_texture.texture == NO_INDEX || (mesh_flags & MESH_HAS_TANGENTS) == 0u {
+    if !FEATURE_NORMAL_MAPS || material.normal_texture.texture == NO_INDEX
+        || (mesh_flags & MESH_HAS_TANGENTS) == 0u {
         return n;
     }
     // Alpha -1 marks a lookup that found no texel (missing UV set or texture).

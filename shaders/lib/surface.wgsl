@@ -10,6 +10,7 @@
 #import lib/bvh.wgsl
 #import lib/scene_bindings.wgsl
 #import lib/textures.wgsl
+#import lib/features.wgsl
 #import lib/frame.wgsl
 #import lib/brdf.wgsl
 #import lib/offset.wgsl
@@ -63,7 +64,7 @@ fn world_triangle_point(t: WorldTriangle, b: vec2<f32>) -> vec3<f32> {
 fn emission_at(instance: u32, indices: vec3<u32>, b: vec2<f32>) -> vec3<f32> {
     let record = bvh_instances[instance];
     let material = scene_materials[record.material];
-    let texel = texture_sample_slot(material.emissive_texture, scene_uvs(indices, b),
+    let texel = texture_sample_feature(FEATURE_EMISSIVE_TEXTURES, material.emissive_texture, scene_uvs(indices, b),
         scene_meshes[record.mesh].flags, vec4<f32>(1.0));
     return material.emission * texel.xyz;
 }
@@ -114,8 +115,10 @@ fn surface_at_hit(direction: vec3<f32>, hit: Hit) -> SurfaceHit {
         world_tangent, t.mirrored, geometric_front);
     let normals = orient_normals(geometric_front, shading_front, direction,
         (material.flags & MATERIAL_DOUBLE_SIDED) != 0u);
-    let base = texture_sample_slot(material.base_color_texture, uvs, mesh_flags, vec4<f32>(1.0));
-    let metallic_roughness = texture_sample_slot(material.metallic_roughness_texture, uvs,
+    let base = texture_sample_feature(FEATURE_BASE_COLOR_TEXTURES, material.base_color_texture, uvs,
+        mesh_flags, vec4<f32>(1.0));
+    let metallic_roughness = texture_sample_feature(FEATURE_METALLIC_ROUGHNESS_TEXTURES,
+        material.metallic_roughness_texture, uvs,
         mesh_flags, vec4<f32>(1.0));
     var s: Shading;
     s.position = world_triangle_point(t, b);

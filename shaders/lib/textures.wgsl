@@ -5,6 +5,7 @@
 #import lib/generated.wgsl
 #import lib/color.wgsl
 #import lib/scene_bindings.wgsl
+#import lib/features.wgsl
 
 // Wraps texel coordinate i into 0..n (mode 0 repeat, 1 mirrored repeat, 2 clamp).
 fn texture_wrap(i: i32, n: i32, mode: u32) -> i32 {
@@ -66,4 +67,13 @@ fn texture_sample_slot(slot: GpuTextureSlot, uvs: vec4<f32>, mesh_flags: u32, fa
     let top = mix(texture_texel(info, xa, ya), texture_texel(info, xb, ya), f.x);
     let bottom = mix(texture_texel(info, xa, yb), texture_texel(info, xb, yb), f.x);
     return mix(top, bottom, f.y);
+}
+
+// texture_sample_slot where the pipeline has this kind of texture (`feature`, one of the
+// FEATURE_*_TEXTURES flags), else the fallback without reading the slot.
+fn texture_sample_feature(feature: bool, slot: GpuTextureSlot, uvs: vec4<f32>, mesh_flags: u32, fallback: vec4<f32>) -> vec4<f32> {
+    if !feature {
+        return fallback;
+    }
+    return texture_sample_slot(slot, uvs, mesh_flags, fallback);
 }

@@ -28,6 +28,7 @@ use crate::passes::indirect::{IndirectParams, IndirectPass};
 use crate::passes::tonemap::{TonemapParams, TonemapPass};
 use crate::settings::{FrameSettings, REFERENCE_BOUNCES, RenderMode};
 use crate::shaders::ShaderError;
+use crate::specialization::PipelineFeatures;
 use crate::targets::FrameTargets;
 use crate::timing::{PassTimer, PassTimes};
 
@@ -105,6 +106,11 @@ pub struct FrameInput {
     pub settings: FrameSettings,
     /// Test hook: the indirect pass writes NaN at pixel (0, 0) and +Inf at (1, 0).
     pub poison: bool,
+    /// The feature set the scene-reading passes render with.
+    pub features: PipelineFeatures,
+    /// Whether a pipeline for new features is built on another thread while the old one
+    /// renders (an interactive app), rather than before the frame (exact images).
+    pub background_compile: bool,
 }
 
 /// A uniform buffer holding one `T`.
@@ -199,6 +205,12 @@ impl Frame {
             composite_params,
             tonemap_params,
         })
+    }
+
+    /// The feature set the last frame's direct pass rendered with (while a new feature set
+    /// compiles in the background, the passes switch to it each when its pipeline is ready).
+    pub fn features(&self) -> Option<PipelineFeatures> {
+        self.direct.features()
     }
 
     /// The realtime mode's denoiser (its history and output, for tests and debug views).
@@ -321,6 +333,12 @@ impl Frame {
         input: &FrameInput,
     ) -> PassTimes {
         let (device, queue) = (&context.device, &context.queue);
+        let (features, background) = (input.features, input.background_compile);
+        self.gbuffer.specialize(device, features, background);
+        self.direct.specialize(device, features, background);
+        if input.settings.mode != RenderMode::Direct {
+            self.indirect.specialize(device, features, background);
+        }
         self.write_uniforms(queue, camera, input);
         let run = passes(&input.settings);
         let gpu = self.timer.gpu();

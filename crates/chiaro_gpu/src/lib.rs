@@ -37,6 +37,7 @@ pub mod readback;
 pub mod renderer;
 pub mod settings;
 pub mod shaders;
+pub mod specialization;
 pub mod targets;
 pub mod timing;
 
@@ -46,3 +47,4 @@ pub use gpu_scene::{GpuScene, UploadStats, add_gpu_scene_systems, upload_gpu_sce
 pub use renderer::{GbufferImage, RenderError, RenderOutput, RenderSettings, Renderer};
 pub use settings::{DenoiseSettings, FrameSettings, RenderMode, SettingsError};
 pub use shaders::{ShaderError, compose};
+pub use specialization::{PipelineChoice, PipelineFeatures};

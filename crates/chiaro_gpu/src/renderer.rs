@@ -5,6 +5,7 @@
 //! reference's estimate; in the realtime mode the temporal pass keeps the history.
 
 use bevy_ecs::prelude::*;
+use chiaro_scene::SceneFeatures;
 use chiaro_shading::rng::Pcg32;
 use glam::{Mat4, Vec2, Vec3};
 use thiserror::Error;
@@ -132,6 +133,7 @@ pub struct Renderer {
     last_settings: Option<FrameSettings>,
     reset_history: bool,
     poison: bool,
+    background_compile: bool,
 }
 
 impl Renderer {
@@ -148,6 +150,7 @@ impl Renderer {
             last_settings: None,
             reset_history: true,
             poison: false,
+            background_compile: false,
         }
     }
 
@@ -155,6 +158,13 @@ impl Renderer {
     /// so tests can check that no non-finite value reaches the history or the image.
     pub fn inject_non_finite(&mut self, on: bool) {
         self.poison = on;
+    }
+
+    /// Whether a pipeline for a scene's new feature set ([`crate::specialization`]) is built
+    /// on another thread while the old one goes on rendering (on: an interactive app never
+    /// stalls on an edit), or before the frame (off, the default: every image is exact).
+    pub fn compile_in_background(&mut self, on: bool) {
+        self.background_compile = on;
     }
 
     fn schedule() -> Schedule {
@@ -292,6 +302,11 @@ impl Renderer {
             reset_history: self.reset_history,
             settings: settings.frame,
             poison: self.poison,
+            features: settings
+                .frame
+                .pipeline
+                .features(world.get_resource::<SceneFeatures>()),
+            background_compile: self.background_compile,
         };
         let frame = self.frame.as_mut().ok_or(RenderError::NotRendered)?;
         let times = frame.render(&self.context, scene, &gpu_camera, &input);

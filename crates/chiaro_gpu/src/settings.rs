@@ -5,6 +5,8 @@ use bevy_ecs::prelude::Resource;
 use chiaro_shading::tonemap::Tonemapper;
 use thiserror::Error;
 
+use crate::specialization::PipelineChoice;
+
 /// Most paths per pixel per frame [`FrameSettings::validate`] accepts.
 pub const MAX_SPP: u32 = 64;
 /// Most indirect bounces [`FrameSettings::validate`] accepts.
@@ -116,6 +118,9 @@ pub struct FrameSettings {
     pub tonemapper: Tonemapper,
     /// Exposure multiplier before tonemapping.
     pub exposure: f32,
+    /// The feature set the scene-reading passes are compiled for: by default what the scene
+    /// uses, so a scene pays nothing for features it lacks.
+    pub pipeline: PipelineChoice,
 }
 
 impl Default for FrameSettings {
@@ -127,6 +132,7 @@ impl Default for FrameSettings {
             denoise: DenoiseSettings::default(),
             tonemapper: Tonemapper::PbrNeutral,
             exposure: 1.0,
+            pipeline: PipelineChoice::Specialized,
         }
     }
 }

@@ -9,11 +9,13 @@
 //! module, every file appears once however many files import it, and an import cycle or a
 //! missing file is refused with an error naming it. This small preprocessor replaces WESL
 //! because chiaro's modules need only include-once semantics (one flat namespace, no
-//! generics or conditional compilation), and it adds no dependency.
+//! generics or conditional compilation: features are specialised through WGSL's
+//! pipeline-overridable constants instead), and it adds no dependency.
 //!
 //! `lib/generated.wgsl` is a virtual module: [`generated_constants`] writes it from the Rust
 //! constants the shaders share (PI, the mirror threshold, light kinds, material flags, ...), so
-//! no such number is copied into WGSL by hand.
+//! no such number is copied into WGSL by hand. `lib/features.wgsl` is another: the
+//! pipeline-overridable feature flags of [`crate::specialization`].
 
 use std::collections::HashSet;
 use std::fmt::Write as _;
@@ -52,6 +54,9 @@ pub enum ShaderError {
 pub fn source(name: &str) -> Option<String> {
     if name == GENERATED_MODULE {
         return Some(generated_constants());
+    }
+    if name == crate::specialization::FEATURES_MODULE {
+        return Some(crate::specialization::features_module());
     }
     SHADER_FILES
         .iter()

@@ -13,7 +13,9 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use bevy_ecs::world::World;
-use chiaro_gpu::{FrameSettings, RenderError, RenderMode, RenderSettings, Renderer};
+use chiaro_gpu::{
+    FrameSettings, PipelineChoice, RenderError, RenderMode, RenderSettings, Renderer,
+};
 use chiaro_scene::{Environment, load_scene};
 use thiserror::Error;
 
@@ -153,7 +155,11 @@ pub struct BenchConfig {
     pub settings: RenderSettings,
 }
 
-/// The configurations measured by default: direct light only; realtime as it ships, without
+/// The realtime configuration compiled with every shader feature, whatever the scene uses.
+pub const ALL_FEATURES_CONFIG: &str = "realtime-all-features";
+
+/// The configurations measured by default: direct light only; realtime as it ships, with every
+/// shader feature compiled in rather than only the scene's (what specialisation saves), without
 /// its denoiser, with 2 and 4 paths per pixel and with bounce caps 1 and 3; the naive paths;
 /// the GPU reference.
 pub fn default_configs() -> Vec<BenchConfig> {
@@ -169,6 +175,13 @@ pub fn default_configs() -> Vec<BenchConfig> {
             },
         ),
         ("realtime", realtime),
+        (
+            ALL_FEATURES_CONFIG,
+            FrameSettings {
+                pipeline: PipelineChoice::AllFeatures,
+                ..realtime
+            },
+        ),
         ("realtime-no-denoise", raw),
         ("realtime-spp2", FrameSettings { spp: 2, ..realtime }),
         ("realtime-spp4", FrameSettings { spp: 4, ..realtime }),

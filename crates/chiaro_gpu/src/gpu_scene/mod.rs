@@ -397,9 +397,11 @@ fn write_instance_extras(
     *realloc |= scene.instance_extras.update(&d, &q, &extras, stats);
 }
 
-/// Adds the BVH systems and [`upload_gpu_scene`] after them to `schedule`.
+/// Adds the BVH systems, [`upload_gpu_scene`] after them, and the scene-features system
+/// (whose [`chiaro_scene::SceneFeatures`] the frame specialises its pipelines to) to `schedule`.
 pub fn add_gpu_scene_systems(schedule: &mut Schedule) {
     chiaro_bvh::add_bvh_systems(schedule);
+    schedule.add_systems(chiaro_scene::update_scene_features);
     schedule.add_systems(upload_gpu_scene.after(chiaro_bvh::update_scene_bvh));
 }
 

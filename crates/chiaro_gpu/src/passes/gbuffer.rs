@@ -7,16 +7,20 @@
 
 use crate::gpu_scene::GpuScene;
 use crate::shaders::ShaderError;
+use crate::specialization::{PipelineCache, PipelineFeatures};
 use crate::targets::{self, FrameTargets};
 
-/// The G-buffer pass.
+/// The G-buffer pass, with one pipeline per feature set ([`crate::specialization`]).
 pub struct GbufferPass {
-    pipeline: wgpu::RenderPipeline,
+    module: wgpu::ShaderModule,
+    pipeline_layout: wgpu::PipelineLayout,
+    pipelines: PipelineCache<wgpu::RenderPipeline>,
     camera_layout: wgpu::BindGroupLayout,
 }
 
 impl GbufferPass {
-    /// The pipeline for the scene's bind-group layout.
+    /// The pass for the scene's bind-group layout; its pipelines are built by
+    /// [`GbufferPass::specialize`].
     pub fn new(device: &wgpu::Device, scene: &GpuScene) -> Result<Self, ShaderError> {
         let module = super::shader_module(device, "gbuffer.wgsl")?;
         let camera_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -28,57 +32,33 @@ impl GbufferPass {
                 count: None,
             }],
         });
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("gbuffer pipeline layout"),
             bind_group_layouts: &[Some(scene.layout()), Some(&camera_layout)],
             immediate_size: 0,
         });
-        let target = |format| {
-            Some(wgpu::ColorTargetState {
-                format,
-                blend: None,
-                write_mask: wgpu::ColorWrites::ALL,
-            })
-        };
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("gbuffer pipeline"),
-            layout: Some(&layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState {
-                cull_mode: None,
-                ..Default::default()
-            },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: targets::DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Greater),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_main"),
-                compilation_options: Default::default(),
-                targets: &[
-                    target(targets::POSITION_FORMAT),
-                    target(targets::SURFACE_FORMAT),
-                    target(targets::EMISSION_FORMAT),
-                    target(targets::MOTION_FORMAT),
-                ],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
         Ok(Self {
-            pipeline,
+            module,
+            pipeline_layout,
+            pipelines: PipelineCache::default(),
             camera_layout,
         })
+    }
+
+    /// Selects the pipeline for `features`, building it now or, with `background`, on another
+    /// thread while the pipeline in use renders (see [`PipelineCache::select`]).
+    pub fn specialize(
+        &mut self,
+        device: &wgpu::Device,
+        features: PipelineFeatures,
+        background: bool,
+    ) {
+        let (device, module) = (device.clone(), self.module.clone());
+        let layout = self.pipeline_layout.clone();
+        self.pipelines
+            .select(features, background, move |features| {
+                build_pipeline(&device, &module, &layout, features)
+            });
     }
 
     /// The bind group of the camera uniform.
@@ -140,7 +120,10 @@ impl GbufferPass {
         let Some(scene_group) = scene.bind_group() else {
             return;
         };
-        pass.set_pipeline(&self.pipeline);
+        let Some(pipeline) = self.pipelines.pipeline() else {
+            return;
+        };
+        pass.set_pipeline(pipeline);
         pass.set_bind_group(0, scene_group, &[]);
         pass.set_bind_group(1, camera, &[]);
         let meshes = scene.meshes();
@@ -152,4 +135,60 @@ impl GbufferPass {
             pass.draw(0..3 * mesh.triangle_count, i..i + 1);
         }
     }
+}
+
+/// The G-buffer's render pipeline compiled for `features`.
+fn build_pipeline(
+    device: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    layout: &wgpu::PipelineLayout,
+    features: PipelineFeatures,
+) -> wgpu::RenderPipeline {
+    let constants = features.constants();
+    let options = || wgpu::PipelineCompilationOptions {
+        constants: &constants,
+        ..Default::default()
+    };
+    let target = |format| {
+        Some(wgpu::ColorTargetState {
+            format,
+            blend: None,
+            write_mask: wgpu::ColorWrites::ALL,
+        })
+    };
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("gbuffer pipeline"),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs_main"),
+            compilation_options: options(),
+            buffers: &[],
+        },
+        primitive: wgpu::PrimitiveState {
+            cull_mode: None,
+            ..Default::default()
+        },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: targets::DEPTH_FORMAT,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(wgpu::CompareFunction::Greater),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some("fs_main"),
+            compilation_options: options(),
+            targets: &[
+                target(targets::POSITION_FORMAT),
+                target(targets::SURFACE_FORMAT),
+                target(targets::EMISSION_FORMAT),
+                target(targets::MOTION_FORMAT),
+            ],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
 }

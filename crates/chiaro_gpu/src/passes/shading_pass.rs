@@ -9,6 +9,7 @@ use wgpu::TextureSampleType as S;
 
 use crate::gpu_scene::GpuScene;
 use crate::shaders::ShaderError;
+use crate::specialization::{PipelineCache, PipelineFeatures};
 use crate::targets::{FrameTargets, HDR_FORMAT, Target};
 
 /// Which G-buffer shading pass: its shader and the image it writes.
@@ -19,15 +20,19 @@ pub trait ShadingKind {
     fn output(targets: &FrameTargets) -> &Target;
 }
 
-/// A compute pass that shades the G-buffer's pixels (see [`ShadingKind`]).
+/// A compute pass that shades the G-buffer's pixels (see [`ShadingKind`]), with one pipeline
+/// per feature set ([`crate::specialization`]).
 pub struct GbufferShadingPass<K> {
-    pipeline: wgpu::ComputePipeline,
+    module: wgpu::ShaderModule,
+    pipeline_layout: wgpu::PipelineLayout,
+    pipelines: PipelineCache<wgpu::ComputePipeline>,
     layout: wgpu::BindGroupLayout,
     kind: PhantomData<K>,
 }
 
 impl<K: ShadingKind> GbufferShadingPass<K> {
-    /// The pipeline for the scene's bind-group layout.
+    /// The pass for the scene's bind-group layout; its pipelines are built by
+    /// [`GbufferShadingPass::specialize`].
     pub fn new(device: &wgpu::Device, scene: &GpuScene) -> Result<Self, ShaderError> {
         let name = K::NAME;
         use super::{compute_entry as e, texture, uniform};
@@ -42,17 +47,50 @@ impl<K: ShadingKind> GbufferShadingPass<K> {
                 e(5, super::storage_texture(HDR_FORMAT)),
             ],
         });
-        let pipeline = super::compute_pipeline(
-            device,
-            &format!("{name} pipeline"),
-            &format!("{name}.wgsl"),
-            &[Some(scene.layout()), Some(&layout)],
-        )?;
+        let module = super::shader_module(device, &format!("{name}.wgsl"))?;
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(&format!("{name} pipeline layout")),
+            bind_group_layouts: &[Some(scene.layout()), Some(&layout)],
+            immediate_size: 0,
+        });
         Ok(Self {
-            pipeline,
+            module,
+            pipeline_layout,
+            pipelines: PipelineCache::default(),
             layout,
             kind: PhantomData,
         })
+    }
+
+    /// Selects the pipeline for `features`, building it now or, with `background`, on another
+    /// thread while the pipeline in use renders (see [`PipelineCache::select`]).
+    pub fn specialize(
+        &mut self,
+        device: &wgpu::Device,
+        features: PipelineFeatures,
+        background: bool,
+    ) {
+        let (device, module) = (device.clone(), self.module.clone());
+        let layout = self.pipeline_layout.clone();
+        self.pipelines
+            .select(features, background, move |features| {
+                device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some(&format!("{} pipeline", K::NAME)),
+                    layout: Some(&layout),
+                    module: &module,
+                    entry_point: Some("main"),
+                    compilation_options: wgpu::PipelineCompilationOptions {
+                        constants: &features.constants(),
+                        ..Default::default()
+                    },
+                    cache: None,
+                })
+            });
+    }
+
+    /// The feature set of the pipeline in use.
+    pub fn features(&self) -> Option<PipelineFeatures> {
+        self.pipelines.current()
     }
 
     /// The pass's bind group over `targets`, the camera and the parameters.
@@ -87,7 +125,8 @@ impl<K: ShadingKind> GbufferShadingPass<K> {
         })
     }
 
-    /// Records the pass (nothing while the scene has no bind group).
+    /// Records the pass (nothing while the scene has no bind group or no pipeline was
+    /// selected).
     pub fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -96,14 +135,15 @@ impl<K: ShadingKind> GbufferShadingPass<K> {
         targets: &FrameTargets,
         timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) {
-        let Some(scene_group) = scene.bind_group() else {
+        let (Some(scene_group), Some(pipeline)) = (scene.bind_group(), self.pipelines.pipeline())
+        else {
             return;
         };
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some(&format!("{} pass", K::NAME)),
             timestamp_writes: timestamps,
         });
-        pass.set_pipeline(&self.pipeline);
+        pass.set_pipeline(pipeline);
         pass.set_bind_group(0, scene_group, &[]);
         pass.set_bind_group(1, group, &[]);
         let (x, y) = super::workgroups(targets.width, targets.height);

@@ -1,0 +1,268 @@
+//! Specialised pipelines (`chiaro_gpu::specialization`) render the image of the general
+//! pipeline, and the specialisation is real: each flag's code runs only when the flag is on.
+//!
+//! - On the Cornell box (it uses emissive triangles only), the specialised frame, the
+//!   all-features frame and every frame with one more flag than the scene needs are the same
+//!   image with the same seed: relMSE at most [`ROUNDING`].
+//! - On a Cornell box given every feature (textures of each kind, a normal-mapped panel, an
+//!   alpha-masked block, point, spot and directional lights, an environment image), the
+//!   pipeline for exactly the scene's features renders the all-features image, and turning any
+//!   one flag off changes the image (relMSE above [`MISSING`]).
+//!
+//! Each frame is two reference-mode frames at 32x32, which run every scene-reading pass.
+
+mod common;
+
+use bevy_ecs::prelude::*;
+use chiaro_gpu::{
+    FrameSettings, PipelineChoice, PipelineFeatures, RenderMode, RenderSettings, Renderer,
+};
+use chiaro_scene::{
+    AlphaMode, Environment, EnvironmentSource, EquirectImage, Light, LightKind, Material,
+    Materials, Mesh, MeshData, MeshInstance, Meshes, SceneFeatures, Texture, TextureRef, Textures,
+    Transform, load_scene,
+};
+use glam::{Affine2, Quat, Vec2, Vec3};
+
+use common::rel_mse;
+
+/// Same image: floating-point rounding only. Measured 0 (the images are bit-identical).
+const ROUNDING: f64 = 1e-9;
+/// A missing feature shows: the smallest relMSE measured with one flag off is 2.1e-3 (the spot
+/// light), the largest 3.4 (the normal map).
+const MISSING: f64 = 1e-4;
+
+fn settings(pipeline: PipelineChoice) -> RenderSettings {
+    RenderSettings {
+        width: 32,
+        height: 32,
+        frames: 2,
+        seed: 7,
+        frame: FrameSettings {
+            mode: RenderMode::Reference,
+            pipeline,
+            ..Default::default()
+        },
+    }
+}
+
+fn render(renderer: &mut Renderer, world: &mut World, pipeline: PipelineChoice) -> Vec<Vec3> {
+    let image = renderer.render(world, &settings(pipeline)).unwrap();
+    assert!(image.hdr.iter().all(|p| p.is_finite()));
+    image.hdr
+}
+
+fn cornell() -> World {
+    let mut world = World::new();
+    load_scene(&mut world, "builtin:cornell").unwrap();
+    world
+}
+
+/// The features the scene's systems derived, after one frame.
+fn scene_features(world: &World) -> PipelineFeatures {
+    PipelineFeatures::of_scene(world.resource::<SceneFeatures>())
+}
+
+#[test]
+fn flags_a_scene_lacks_change_nothing() {
+    let Some(context) = common::gpu() else {
+        return;
+    };
+    let mut renderer = Renderer::new(context);
+    let mut world = cornell();
+    let specialized = render(&mut renderer, &mut world, PipelineChoice::Specialized);
+    let needed = scene_features(&world);
+    assert_eq!(needed, PipelineFeatures::EMISSIVE_TRIANGLES);
+    let all = render(&mut renderer, &mut world, PipelineChoice::AllFeatures);
+    let e = rel_mse(&all, &specialized);
+    eprintln!("cornell: all features against specialised: relMSE {e:.3e}");
+    assert!(e <= ROUNDING, "all-features image differs: {e:.3e}");
+    for flag in PipelineFeatures::FLAGS {
+        if needed.contains(flag.bit) {
+            continue;
+        }
+        let with = PipelineChoice::Exactly(needed.with(flag.bit));
+        let e = rel_mse(&render(&mut renderer, &mut world, with), &specialized);
+        eprintln!("cornell + {}: relMSE {e:.3e}", flag.name);
+        assert!(e <= ROUNDING, "{} changes the image: {e:.3e}", flag.name);
+    }
+}
+
+/// A 4x4 RGBA8 texture whose texels cycle through `texels`.
+fn texture(textures: &mut Textures, name: &str, texels: &[[u8; 4]], srgb: bool) -> TextureRef {
+    let rgba8 = (0..16).flat_map(|i| texels[i % texels.len()]).collect();
+    let id = textures.add(Texture {
+        name: name.into(),
+        width: 4,
+        height: 4,
+        rgba8,
+        color_space: if srgb {
+            chiaro_scene::ColorSpace::Srgb
+        } else {
+            chiaro_scene::ColorSpace::Linear
+        },
+    });
+    TextureRef {
+        texture: id,
+        uv_set: 0,
+        transform: Affine2::IDENTITY,
+        sampler: Default::default(),
+    }
+}
+
+/// The material of the instance named `name`, replaced by `edit` of a copy of it.
+fn edit_material(world: &mut World, name: &str, edit: impl FnOnce(&mut Material)) {
+    let mut query = world.query::<(Entity, &Name, &MeshInstance)>();
+    let (entity, instance) = query
+        .iter(world)
+        .find(|(_, n, _)| n.as_str() == name)
+        .map(|(e, _, i)| (e, *i))
+        .unwrap_or_else(|| panic!("the Cornell box has a {name}"));
+    let mut materials = world.resource_mut::<Materials>();
+    let mut material = materials.get(instance.material).unwrap().clone();
+    edit(&mut material);
+    let id = materials.add(material);
+    world.get_mut::<MeshInstance>(entity).unwrap().material = id;
+}
+
+/// The Cornell box with every feature a flag guards.
+fn cornell_with_every_feature() -> World {
+    let mut world = cornell();
+    let mut textures = world.remove_resource::<Textures>().unwrap_or_default();
+    let checker = texture(
+        &mut textures,
+        "checker",
+        &[[255, 255, 255, 255], [40, 40, 200, 255]],
+        true,
+    );
+    let metal_rough = texture(
+        &mut textures,
+        "metal-rough",
+        &[[0, 40, 255, 255], [0, 255, 0, 255]],
+        false,
+    );
+    let emissive = texture(
+        &mut textures,
+        "emissive",
+        &[[255, 255, 255, 255], [0, 0, 0, 255]],
+        true,
+    );
+    let bumps = texture(
+        &mut textures,
+        "bumps",
+        &[
+            [230, 128, 200, 255],
+            [25, 128, 200, 255],
+            [128, 230, 200, 255],
+        ],
+        false,
+    );
+    world.insert_resource(textures);
+    edit_material(&mut world, "back wall", |m| {
+        m.base_color_texture = Some(checker);
+    });
+    edit_material(&mut world, "floor", |m| {
+        m.metallic = 1.0;
+        m.roughness = 1.0;
+        m.metallic_roughness_texture = Some(metal_rough);
+    });
+    edit_material(&mut world, "light", |m| m.emissive_texture = Some(emissive));
+    edit_material(&mut world, "tall block", |m| {
+        m.base_color.w = 0.25;
+        m.alpha_mode = AlphaMode::Mask { cutoff: 0.5 };
+    });
+    // A normal-mapped panel in front of the back wall (the box is 0.555 m wide) (tangents generated from its UVs).
+    let (panel, _) = Mesh::new(
+        "panel",
+        MeshData {
+            positions: vec![
+                Vec3::new(0.40, 0.10, 0.55),
+                Vec3::new(0.15, 0.10, 0.55),
+                Vec3::new(0.15, 0.40, 0.55),
+                Vec3::new(0.40, 0.40, 0.55),
+            ],
+            normals: Some(vec![Vec3::NEG_Z; 4]),
+            uvs: [Some(vec![Vec2::ZERO, Vec2::X, Vec2::ONE, Vec2::Y]), None],
+            indices: Some(vec![0, 1, 2, 0, 2, 3]),
+            tangent_uv_set: Some(0),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert!(panel.tangents().is_some());
+    let mesh = world.resource_mut::<Meshes>().add(panel);
+    let material = world.resource_mut::<Materials>().add(Material {
+        normal_texture: Some(bumps),
+        metallic: 1.0,
+        roughness: 0.2,
+        ..Material::diffuse("bumpy", Vec3::splat(0.9), 0.2)
+    });
+    world.spawn((
+        Name::new("panel"),
+        MeshInstance { mesh, material },
+        Transform::IDENTITY,
+    ));
+    let light = |kind, intensity| Light {
+        kind,
+        color: Vec3::new(1.0, 0.9, 0.8),
+        intensity,
+        range: None,
+    };
+    world.spawn((
+        light(LightKind::Point, 0.15),
+        Transform::from_translation(Vec3::new(0.15, 0.45, 0.15)),
+    ));
+    let down = Quat::from_rotation_x(-std::f32::consts::FRAC_PI_2);
+    world.spawn((
+        light(
+            LightKind::Spot {
+                inner_cone_angle: 0.2,
+                outer_cone_angle: 0.4,
+            },
+            0.3,
+        ),
+        Transform::from_translation(Vec3::new(0.40, 0.54, 0.40)).with_rotation(down),
+    ));
+    // Travelling into the box through its open front (+Z), from above.
+    let into_box = Quat::from_rotation_arc(Vec3::NEG_Z, Vec3::new(0.0, -0.5, 1.0).normalize());
+    world.spawn((
+        light(LightKind::Directional, 2.0),
+        Transform::IDENTITY.with_rotation(into_box),
+    ));
+    let texels = (0..8 * 4)
+        .map(|i| Vec3::new(0.5 + (i % 3) as f32, 1.0, 0.5 + (i % 5) as f32 * 0.3))
+        .collect();
+    world.insert_resource(Environment {
+        source: EnvironmentSource::Equirect(EquirectImage {
+            path: "in-memory sky".into(),
+            width: 8,
+            height: 4,
+            texels,
+        }),
+        strength: 1.0,
+        rotation: 0.0,
+    });
+    world
+}
+
+#[test]
+fn each_flag_turns_its_feature_on_and_only_its_flag_does() {
+    let Some(context) = common::gpu() else {
+        return;
+    };
+    let mut renderer = Renderer::new(context);
+    let mut world = cornell_with_every_feature();
+    let all = render(&mut renderer, &mut world, PipelineChoice::AllFeatures);
+    let needed = scene_features(&world);
+    assert_eq!(needed, PipelineFeatures::ALL, "{:?}", needed.names());
+    let exact = render(&mut renderer, &mut world, PipelineChoice::Exactly(needed));
+    let e = rel_mse(&exact, &all);
+    eprintln!("every feature: exact against all features: relMSE {e:.3e}");
+    assert!(e <= ROUNDING, "{e:.3e}");
+    for flag in PipelineFeatures::FLAGS {
+        let without = PipelineChoice::Exactly(needed.without(flag.bit));
+        let e = rel_mse(&render(&mut renderer, &mut world, without), &all);
+        eprintln!("without {}: relMSE {e:.3e}", flag.name);
+        assert!(e > MISSING, "{} off changes nothing: {e:.3e}", flag.name);
+    }
+}
