@@ -210,7 +210,8 @@ impl Renderer {
 
     /// Gives `world` the [`GpuScene`] resource that chiaro's systems upload into, if it has
     /// none: an app that runs those systems in its own schedule calls this once before that
-    /// schedule first runs.
+    /// schedule first runs. The buffers belong to this renderer's device: a world is drawn by
+    /// renderers on one device.
     pub fn attach(&self, world: &mut World) {
         if !world.contains_resource::<GpuScene>() {
             let scene = GpuScene::new(&self.context.device, &self.context.queue);

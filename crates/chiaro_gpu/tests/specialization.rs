@@ -125,6 +125,14 @@ fn edit_material(world: &mut World, name: &str, edit: impl FnOnce(&mut Material)
     world.get_mut::<MeshInstance>(entity).unwrap().material = id;
 }
 
+/// Makes the tall block a hole: alpha 0.25 under a mask of cutoff 0.5.
+fn mask_tall_block(world: &mut World) {
+    edit_material(world, "tall block", |m| {
+        m.base_color.w = 0.25;
+        m.alpha_mode = AlphaMode::Mask { cutoff: 0.5 };
+    });
+}
+
 /// The Cornell box with every feature a flag guards.
 fn cornell_with_every_feature() -> World {
     let mut world = cornell();
@@ -167,10 +175,7 @@ fn cornell_with_every_feature() -> World {
         m.metallic_roughness_texture = Some(metal_rough);
     });
     edit_material(&mut world, "light", |m| m.emissive_texture = Some(emissive));
-    edit_material(&mut world, "tall block", |m| {
-        m.base_color.w = 0.25;
-        m.alpha_mode = AlphaMode::Mask { cutoff: 0.5 };
-    });
+    mask_tall_block(&mut world);
     // A normal-mapped panel in front of the back wall (the box is 0.555 m wide) (tangents generated from its UVs).
     let (panel, _) = Mesh::new(
         "panel",
@@ -265,4 +270,43 @@ fn each_flag_turns_its_feature_on_and_only_its_flag_does() {
         eprintln!("without {}: relMSE {e:.3e}", flag.name);
         assert!(e > MISSING, "{} off changes nothing: {e:.3e}", flag.name);
     }
+}
+
+/// An edit that adds a feature does not stall a renderer that compiles in the background: the
+/// frame after the edit renders at once with the pipeline in use, and a later frame switches to
+/// the one compiled for the new features.
+#[test]
+fn a_new_feature_compiles_in_the_background_while_the_old_pipeline_renders() {
+    let Some(context) = common::gpu() else {
+        return;
+    };
+    let mut renderer = Renderer::new(context);
+    renderer.compile_in_background(true);
+    let mut world = cornell();
+    let frame = settings(PipelineChoice::Specialized);
+    renderer.accumulate(&mut world, &frame, 1).unwrap();
+    let before = scene_features(&world);
+    assert_eq!(renderer.frame().unwrap().features(), Some(before));
+    mask_tall_block(&mut world);
+    renderer.accumulate(&mut world, &frame, 1).unwrap();
+    let after = scene_features(&world);
+    assert_eq!(after, before.with(PipelineFeatures::ALPHA_MASKS));
+    assert_eq!(renderer.frame().unwrap().features(), Some(before));
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
+    let mut frames = 1;
+    while renderer.frame().unwrap().features() != Some(after) {
+        assert!(std::time::Instant::now() < deadline, "never switched");
+        renderer.accumulate(&mut world, &frame, 1).unwrap();
+        frames += 1;
+    }
+    eprintln!("switched to the new features after {frames} frames");
+    // The pipeline it switched to is the exact one: a fresh render with it matches a fresh
+    // renderer's, which compiles before its first frame.
+    let switched = renderer.render(&mut world, &frame).unwrap();
+    let mut fresh_world = cornell();
+    mask_tall_block(&mut fresh_world);
+    let mut fresh = Renderer::new(common::gpu().unwrap());
+    let exact = fresh.render(&mut fresh_world, &frame).unwrap();
+    let e = rel_mse(&switched.hdr, &exact.hdr);
+    assert!(e <= ROUNDING, "{e:.3e}");
 }
