@@ -287,8 +287,13 @@ fn a_new_feature_compiles_in_the_background_while_the_old_pipeline_renders() {
     renderer.accumulate(&mut world, &frame, 1).unwrap();
     let before = scene_features(&world);
     assert_eq!(renderer.frame().unwrap().features(), Some(before));
-    mask_tall_block(&mut world);
+    let plain = std::time::Instant::now();
     renderer.accumulate(&mut world, &frame, 1).unwrap();
+    let plain = plain.elapsed();
+    mask_tall_block(&mut world);
+    let edited = std::time::Instant::now();
+    renderer.accumulate(&mut world, &frame, 1).unwrap();
+    let edited = edited.elapsed();
     let after = scene_features(&world);
     assert_eq!(after, before.with(PipelineFeatures::ALPHA_MASKS));
     assert_eq!(renderer.frame().unwrap().features(), Some(before));
@@ -299,14 +304,22 @@ fn a_new_feature_compiles_in_the_background_while_the_old_pipeline_renders() {
         renderer.accumulate(&mut world, &frame, 1).unwrap();
         frames += 1;
     }
-    eprintln!("switched to the new features after {frames} frames");
+    eprintln!(
+        "frame before the edit {plain:?}, the edit's frame {edited:?}; switched to the new \
+         features after {frames} frames"
+    );
     // The pipeline it switched to is the exact one: a fresh render with it matches a fresh
     // renderer's, which compiles before its first frame.
     let switched = renderer.render(&mut world, &frame).unwrap();
     let mut fresh_world = cornell();
     mask_tall_block(&mut fresh_world);
     let mut fresh = Renderer::new(common::gpu().unwrap());
+    let compiled_first = std::time::Instant::now();
     let exact = fresh.render(&mut fresh_world, &frame).unwrap();
+    eprintln!(
+        "a fresh renderer's first 2 frames (compiling before them): {:?}",
+        compiled_first.elapsed()
+    );
     let e = rel_mse(&switched.hdr, &exact.hdr);
     assert!(e <= ROUNDING, "{e:.3e}");
 }
