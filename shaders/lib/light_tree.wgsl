@@ -24,12 +24,18 @@ struct LightTreePick {
     pmf: f32,
 }
 
+// asin of x in [0, 1] through atan2: some drivers' asin is far less exact (lavapipe's errs by
+// up to 4e-4, its atan2 by 3e-6), and the walk's probabilities should match the CPU's.
+fn light_tree_asin(x: f32) -> f32 {
+    return atan2(x, sqrt((1.0 - x) * (1.0 + x)));
+}
+
 // The angle between two unit vectors, robust near 0 and pi.
 fn light_tree_angle_between(a: vec3<f32>, b: vec3<f32>) -> f32 {
     if dot(a, b) < 0.0 {
-        return PI - 2.0 * asin(min(length(a + b) * 0.5, 1.0));
+        return PI - 2.0 * light_tree_asin(min(length(a + b) * 0.5, 1.0));
     }
-    return 2.0 * asin(min(length(a - b) * 0.5, 1.0));
+    return 2.0 * light_tree_asin(min(length(a - b) * 0.5, 1.0));
 }
 
 // An upper bound on what the lights under `b` send to p on a surface of normal n (a zero n
@@ -50,7 +56,7 @@ fn light_tree_importance(b: GpuLightTreeNode, p: vec3<f32>, n: vec3<f32>) -> f32
     }
     let distance = sqrt(distance2);
     let wi = to_light / distance;
-    let theta_u = asin(min(half_diagonal / distance, 1.0));
+    let theta_u = light_tree_asin(min(half_diagonal / distance, 1.0));
     let theta = light_tree_angle_between(b.axis, -wi);
     let theta_emit = max(theta - b.theta_o - theta_u, 0.0);
     if theta_emit >= b.theta_e && !(b.theta_e == 0.0 && theta_emit == 0.0) {
