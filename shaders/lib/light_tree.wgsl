@@ -10,6 +10,8 @@
 //     struct GpuLightTreeNode      // chiaro_gpu::GpuLightTreeNode
 //     fn light_tree_node(i: u32) -> GpuLightTreeNode
 // Several trees may share one array: a walk starts at a root, and a root's parent is NO_INDEX.
+// Unlike the CPU tree, an inner node names both children (`first`, `second`): the GPU layout
+// puts the leaves after the inner nodes in the order of their lights.
 
 #import lib/generated.wgsl
 #import lib/float.wgsl
@@ -88,7 +90,7 @@ fn light_tree_first_child_probability(left: f32, right: f32) -> f32 {
 // The probability of taking the first child of inner node `node` from p, n.
 fn light_tree_first_of(node: GpuLightTreeNode, p: vec3<f32>, n: vec3<f32>) -> f32 {
     let left = light_tree_importance(light_tree_node(node.first), p, n);
-    let right = light_tree_importance(light_tree_node(node.first + 1u), p, n);
+    let right = light_tree_importance(light_tree_node(node.second), p, n);
     return light_tree_first_child_probability(left, right);
 }
 
@@ -107,7 +109,7 @@ fn light_tree_pick(root: u32, p: vec3<f32>, n: vec3<f32>, u_in: f32) -> LightTre
         } else {
             u = clamp((u - p_left) / (1.0 - p_left), 0.0, ONE_MINUS_EPSILON);
             pmf *= 1.0 - p_left;
-            next += 1u;
+            next = node.second;
         }
         node = light_tree_node(next);
     }

@@ -237,7 +237,7 @@ fn emission_reached(source: Shading, wi: vec3<f32>, hit: Hit, brdf_pdf: f32, wei
         let first = scene_instance_extras[hit.instance].area_first;
         var pmf = 0.0;
         if first != NO_INDEX && light_tree_sampling() && scene_info.area_tree != NO_INDEX {
-            let leaf = scene_light_leaves[first + hit.triangle];
+            let leaf = scene_info.area_leaves + first + hit.triangle;
             pmf = (1.0 - scene_info.env_pmf)
                 * light_tree_pmf(leaf, source.position, source.frame.normal);
         } else if first != NO_INDEX {

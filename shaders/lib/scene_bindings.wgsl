@@ -1,4 +1,4 @@
-// The scene part of group(0) beyond the BVH (bindings 8..21), mirroring the records of
+// The scene part of group(0) beyond the BVH (bindings 8..20), mirroring the records of
 // chiaro_gpu::gpu_scene::layout field for field (a test compares the layouts through naga).
 // Also the accessors environment.wgsl asks its importer for.
 
@@ -109,11 +109,12 @@ struct GpuSceneInfo {
     area_tree: u32,
     punctual_tree: u32,
     directional_share: f32,
-    pad: u32,
+    area_leaves: u32,
 }
 
-// chiaro_gpu::GpuLightTreeNode: a node of a light tree (both trees share binding 20; a leaf's
-// `first` is its light's index in its table, an inner node's its first child's).
+// chiaro_gpu::GpuLightTreeNode: a node of a light tree (both trees share binding 20; an inner
+// node's `first` and `second` are its children, a leaf's `first` its light's table index).
+// Area-table entry i's leaf is node scene_info.area_leaves + i.
 struct GpuLightTreeNode {
     min: vec3<f32>,
     power: f32,
@@ -122,9 +123,9 @@ struct GpuLightTreeNode {
     axis: vec3<f32>,
     theta_e: f32,
     first: u32,
+    second: u32,
     parent: u32,
     leaf: u32,
-    pad: u32,
 }
 
 @group(0) @binding(8) var<storage, read> scene_vertices: array<GpuVertex>;
@@ -140,9 +141,6 @@ struct GpuLightTreeNode {
 @group(0) @binding(18) var<storage, read> scene_env_table: array<f32>;
 @group(0) @binding(19) var<uniform> scene_info: GpuSceneInfo;
 @group(0) @binding(20) var<storage, read> scene_light_tree: array<GpuLightTreeNode>;
-// The leaf node of each light: area-table entry i at i, punctual light j at area_count + j
-// (NO_INDEX for the environment and directional lights, which no tree holds).
-@group(0) @binding(21) var<storage, read> scene_light_leaves: array<u32>;
 
 // The hook lib/light_tree.wgsl reads its nodes through.
 fn light_tree_node(i: u32) -> GpuLightTreeNode {

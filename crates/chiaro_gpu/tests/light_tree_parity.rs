@@ -95,7 +95,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let q = queries[i];
     let pick = light_tree_pick(q.root, q.p, q.n, q.u);
-    let rewalk = light_tree_pmf(scene_light_leaves[q.leaf_base + pick.light], q.p, q.n);
+    let rewalk = light_tree_pmf(q.leaf_base + pick.light, q.p, q.n);
     answers[i] = Answer(pick.light, pick.pmf, light_tree_pmf(q.leaf, q.p, q.n), rewalk);
 }
 "#;
@@ -143,9 +143,10 @@ fn gpu_walks_match_the_cpu_tree() {
         let flat = sets
             .each_ref()
             .map(|s| FlatTree::build(&s.iter().copied().map(Some).collect::<Vec<_>>()));
-        let (nodes, leaves, area_root, punctual_root) = combine(&flat[0], &flat[1], area_n);
+        let (nodes, area_root, punctual_root) = combine(&flat[0], &flat[1]);
         let roots = [area_root, punctual_root];
-        let bases = [0, area_n];
+        // Node of each tree's light 0.
+        let leaf_bases = [0, 1].map(|t| roots[t] + flat[t].leaf(0));
         let mut expected = Vec::new();
         let queries: Vec<Query> = (0..QUERIES)
             .map(|i| {
@@ -165,8 +166,8 @@ fn gpu_walks_match_the_cpu_tree() {
                     u,
                     n: n.to_array(),
                     root: roots[t],
-                    leaf: leaves[bases[t] + light],
-                    leaf_base: bases[t] as u32,
+                    leaf: leaf_bases[t] + light as u32,
+                    leaf_base: leaf_bases[t],
                     pad: [0; 2],
                 }
             })
@@ -178,11 +179,6 @@ fn gpu_walks_match_the_cpu_tree() {
                     group: 0,
                     binding: 20,
                     data: bytemuck::cast_slice(&nodes),
-                },
-                Input {
-                    group: 0,
-                    binding: 21,
-                    data: bytemuck::cast_slice(&leaves),
                 },
                 Input {
                     group: 1,

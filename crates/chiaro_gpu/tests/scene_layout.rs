@@ -149,7 +149,7 @@ fn scene_records_match_their_wgsl_structs() {
             area_tree,
             punctual_tree,
             directional_share,
-            pad
+            area_leaves
         ]
     );
     check!(
@@ -157,7 +157,7 @@ fn scene_records_match_their_wgsl_structs() {
         GpuLightTreeNode,
         "GpuLightTreeNode",
         [
-            min, power, max, theta_o, axis, theta_e, first, parent, leaf, pad
+            min, power, max, theta_o, axis, theta_e, first, second, parent, leaf
         ]
     );
     // The BVH records the scene bind group also carries.

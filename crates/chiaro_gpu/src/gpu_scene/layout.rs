@@ -237,7 +237,7 @@ pub struct GpuAreaLight {
 
 /// One node of a light tree (`chiaro_shading::light_tree::LightTreeNode`): the bounds of its
 /// lights and its links. Both trees (area, then punctual) share one buffer; indices are into
-/// it.
+/// it (see `gpu_scene::light_trees` for the layout).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 #[repr(C, align(16))]
 pub struct GpuLightTreeNode {
@@ -253,15 +253,15 @@ pub struct GpuLightTreeNode {
     pub axis: [f32; 3],
     /// Spread of emission beyond the cone of normals.
     pub theta_e: f32,
-    /// Inner node: the first child's index (the second follows). Leaf: the light's index in
-    /// its table (area-light table or punctual lights).
+    /// Inner node: the first child's index. Leaf: the light's index in its table (area-light
+    /// table or punctual lights).
     pub first: u32,
+    /// Inner node: the second child's index. Leaf: [`NO_INDEX`].
+    pub second: u32,
     /// The parent's index, [`NO_INDEX`] for a root.
     pub parent: u32,
     /// 1 for a leaf, 0 for an inner node.
     pub leaf: u32,
-    /// Padding, zero.
-    pub pad: u32,
 }
 
 /// Per-instance data beside `chiaro_bvh::GpuInstance`.
@@ -313,8 +313,9 @@ pub struct GpuSceneInfo {
     /// The directional lights' share of the punctual lights' power: under tree sampling, the
     /// probability of picking one of them (by power) rather than walking the punctual tree.
     pub directional_share: f32,
-    /// Padding, zero.
-    pub pad: u32,
+    /// The area tree's leaf of area-table entry 0: entry i's is `area_leaves + i` (the
+    /// environment, the last entry, has none).
+    pub area_leaves: u32,
 }
 
 #[cfg(test)]

@@ -24,7 +24,6 @@
 //! | 18 | environment importance table | `f32` |
 //! | 19 | scene info (uniform) | [`GpuSceneInfo`] |
 //! | 20 | light tree nodes (area tree, then punctual) | [`GpuLightTreeNode`] |
-//! | 21 | leaf node per light (area table, then punctual) | `u32` |
 //!
 //! Textures live in one storage buffer of texels (an atlas in a buffer) rather than a texture
 //! array: an array needs every layer the same size (glTF textures differ, and resampling them
@@ -80,7 +79,6 @@ pub struct GpuScene {
     env_table: MirrorBuffer<f32>,
     info_buffer: MirrorBuffer<GpuSceneInfo>,
     light_tree: MirrorBuffer<GpuLightTreeNode>,
-    light_leaves: MirrorBuffer<u32>,
     area_tree: FlatTree,
     punctual_tree: FlatTree,
     /// The scene info as uploaded.
@@ -98,7 +96,7 @@ pub struct GpuScene {
 const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE;
 
 /// The bindings of group(0), in order, with whether each is the uniform.
-const BINDINGS: [(u32, bool); 18] = [
+const BINDINGS: [(u32, bool); 17] = [
     (0, false),
     (1, false),
     (2, false),
@@ -116,7 +114,6 @@ const BINDINGS: [(u32, bool); 18] = [
     (18, false),
     (19, true),
     (20, false),
-    (21, false),
 ];
 
 impl GpuScene {
@@ -167,7 +164,6 @@ impl GpuScene {
             env_table: MirrorBuffer::new(d, "scene environment table", STORAGE),
             info_buffer: MirrorBuffer::new(d, "scene info", wgpu::BufferUsages::UNIFORM),
             light_tree: MirrorBuffer::new(d, "scene light tree", STORAGE),
-            light_leaves: MirrorBuffer::new(d, "scene light leaves", STORAGE),
             area_tree: FlatTree::default(),
             punctual_tree: FlatTree::default(),
             info: GpuSceneInfo::default(),
@@ -205,7 +201,7 @@ impl GpuScene {
         self.instances.contents()
     }
 
-    fn buffers(&self) -> [&wgpu::Buffer; 18] {
+    fn buffers(&self) -> [&wgpu::Buffer; 17] {
         [
             self.blas_nodes.buffer(),
             self.triangles.buffer(),
@@ -224,7 +220,6 @@ impl GpuScene {
             self.env_table.buffer(),
             self.info_buffer.buffer(),
             self.light_tree.buffer(),
-            self.light_leaves.buffer(),
         ]
     }
 
@@ -356,15 +351,12 @@ pub fn upload_gpu_scene(
         put!(scene, stats, realloc, area_lights, &table);
     }
     if fresh || lights_changed || area_changed {
-        let (nodes, leaves, area_root, punctual_root) = light_trees::combine(
-            &scene.area_tree,
-            &scene.punctual_tree,
-            info.area_count as usize,
-        );
+        let (nodes, area_root, punctual_root) =
+            light_trees::combine(&scene.area_tree, &scene.punctual_tree);
         info.area_tree = area_root;
         info.punctual_tree = punctual_root;
+        info.area_leaves = scene.area_tree.leaf(0);
         put!(scene, stats, realloc, light_tree, &nodes);
-        put!(scene, stats, realloc, light_leaves, &leaves);
     }
     // The per-instance extras change when the BVH or the area lights do, and once more the
     // frame after an instance moved (its previous transform catches up); otherwise this
