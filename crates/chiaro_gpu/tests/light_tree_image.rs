@@ -10,9 +10,12 @@
 //!   with the tree than with power sampling, by at least [`TREE_GAIN`].
 //!
 //! Measured on lavapipe (CPU reference 1024 spp, seed 7):
-//! - reference mode, 16 frames x 4 paths, seeds 1 and 2: relMSE 1.1e-2, bound 3.5e-2 (GPU
-//!   noise 9.8e-3, reference noise 1.9e-3); sum 0.3 standard errors off.
-//! - direct mode, 16 frames: relMSE tree 2.0e-2, power 6.5e-2 (3.3x).
+//! - reference mode, 16 frames x 4 paths, seeds 1 and 2: relMSE 3.0e-3, bound 8.8e-3 (GPU
+//!   noise 2.8e-3, reference noise 7.9e-5); sums -1.3, 0.7, -1.6 standard errors off (R, G,
+//!   B). What the sums catch: the punctual tree's pick probability reported 10% high moves
+//!   them by -9.2, -10.7, -7.6 standard errors; the area tree's by -2.6, -3.6, -3.4 (so an
+//!   area-tree error from about 12% up), since the quads light less of the image.
+//! - direct mode, 16 frames, seed 1: relMSE tree 2.8e-3, power 2.3e-2 (8.1x).
 //!
 //! The file takes about a minute on lavapipe.
 
@@ -29,7 +32,7 @@ const SIZE: u32 = 48;
 /// Samples per pixel of the CPU references.
 const REFERENCE_SPP: u32 = 1024;
 /// The power-sampled direct error over the tree-sampled one must exceed this.
-const TREE_GAIN: f64 = 1.5;
+const TREE_GAIN: f64 = 3.0;
 /// Fraction of pixels left out: those whose reference halves disagree most.
 const TRIMMED: f64 = 0.01;
 
