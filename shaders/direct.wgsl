@@ -1,7 +1,8 @@
 // Direct light per pixel of the G-buffer, one frame's estimate of the light the surface seen
 // reflects (its own emission is the composite's to add): every
-// punctual light (or one picked by power when there are more than ALL_PUNCTUAL_LIGHTS_MAX),
-// one area-light sample (an emissive triangle or the environment, picked by power) and one
+// punctual light (or one picked when there are more than ALL_PUNCTUAL_LIGHTS_MAX),
+// one area-light sample (an emissive triangle or the environment; picks by power or through
+// the light trees, lib/next_event.wgsl) and one
 // BRDF sample, the last two combined by multiple importance sampling with the power
 // heuristic (Veach and Guibas, "Optimally Combining Sampling Techniques for Monte Carlo
 // Rendering", SIGGRAPH 1995). Each light sample casts one shadow ray from an origin offset
