@@ -1,7 +1,8 @@
 // Direct light per pixel of the G-buffer, one frame's estimate of the light the surface seen
 // reflects (its own emission is the composite's to add): every
-// punctual light (or one picked by power when there are more than ALL_PUNCTUAL_LIGHTS_MAX),
-// one area-light sample (an emissive triangle or the environment, picked by power) and one
+// punctual light (or one picked when there are more than ALL_PUNCTUAL_LIGHTS_MAX),
+// one area-light sample (an emissive triangle or the environment; picks by power or through
+// the light trees, lib/next_event.wgsl) and one
 // BRDF sample, the last two combined by multiple importance sampling with the power
 // heuristic (Veach and Guibas, "Optimally Combining Sampling Techniques for Monte Carlo
 // Rendering", SIGGRAPH 1995). Each light sample casts one shadow ray from an origin offset
@@ -27,6 +28,16 @@ struct DirectParams {
     seed_hi: u32,
     // 1: light sampling as above; 0 (naive mode): covered pixels reflect nothing here.
     lights: u32,
+    // LIGHT_SAMPLING_POWER or LIGHT_SAMPLING_TREE.
+    light_sampling: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
+}
+
+// lib/next_event.wgsl's hook.
+fn light_tree_sampling() -> bool {
+    return params.light_sampling == LIGHT_SAMPLING_TREE;
 }
 
 @group(1) @binding(4) var<uniform> params: DirectParams;
@@ -42,7 +53,7 @@ fn brdf_light(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
     }
     let wi = frame_to_world(s.frame, bs.wi);
     let hit = trace_closest(leaving_ray(s, wi), f32_infinity());
-    return bs.weight * emission_reached(s.position, wi, hit, bs.pdf, !bs.delta);
+    return bs.weight * emission_reached(s, wi, hit, bs.pdf, !bs.delta);
 }
 
 @compute @workgroup_size(8, 8)

@@ -52,7 +52,13 @@ struct IndirectParams {
     bounces: u32,
     naive: u32,
     poison: u32,
-    pad: u32,
+    // LIGHT_SAMPLING_POWER or LIGHT_SAMPLING_TREE.
+    light_sampling: u32,
+}
+
+// lib/next_event.wgsl's hook.
+fn light_tree_sampling() -> bool {
+    return params.light_sampling == LIGHT_SAMPLING_TREE;
 }
 
 @group(1) @binding(4) var<uniform> params: IndirectParams;
@@ -125,7 +131,7 @@ fn trace_path(x0: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
         }
         let hit = trace_closest(ray, f32_infinity());
         if depth > 0u || naive {
-            total += throughput * emission_reached(s.position, step.wi, hit, step.pdf,
+            total += throughput * emission_reached(s, step.wi, hit, step.pdf,
                 !naive && !step.delta);
         }
         if hit.instance == BVH_NO_HIT || depth == params.bounces {

@@ -163,6 +163,10 @@ struct FrameArgs {
     /// Turns the realtime mode's denoiser (temporal, variance, a-trous) off.
     #[arg(long)]
     no_denoise: bool,
+    /// How next-event estimation picks a light: tree (by importance to the shading point,
+    /// through light trees) or power (by power alone).
+    #[arg(long, default_value = "tree")]
+    light_sampling: LightSampling,
 }
 
 impl FrameArgs {
@@ -171,6 +175,7 @@ impl FrameArgs {
             mode: self.mode.into(),
             spp: self.spp,
             bounces: self.bounces,
+            light_sampling: self.light_sampling,
             ..FrameSettings::default()
         };
         settings.denoise.enabled = !self.no_denoise;

@@ -2,12 +2,19 @@
 // sampling with the power heuristic (Veach and Guibas, "Optimally Combining Sampling
 // Techniques for Monte Carlo Rendering", SIGGRAPH 1995; Veach, 1997, thesis, chapter 9):
 //
-// - next-event estimation: every punctual light (or one picked by power when there are more
-//   than ALL_PUNCTUAL_LIGHTS_MAX) and one sample of the area-light table (an emissive triangle
-//   or the environment, picked by power), each with one shadow ray, the area sample weighted
-//   against BRDF sampling;
+// - next-event estimation: every punctual light (or one picked when there are more than
+//   ALL_PUNCTUAL_LIGHTS_MAX) and one sample of the area-light table (an emissive triangle or
+//   the environment), each with one shadow ray, the area sample weighted against BRDF
+//   sampling;
 // - emission_reached: the emission or environment that a BRDF-sampled ray reaches, weighted
 //   against the chance that the area-light sample would have produced it.
+//
+// A light is picked by power alone, or, when the importer's light_tree_sampling() says so,
+// through the light trees (lib/light_tree.wgsl) by its importance to the shading point (its
+// position and shading normal, as chiaro_reference's light table): the environment keeps its
+// power share of the area table and the directional lights theirs of the punctual lights, the
+// rest is the tree's walk. The importer defines
+//     fn light_tree_sampling() -> bool
 //
 // The environment seen along a ray that leaves the scene is environment_seen.
 
@@ -23,6 +30,13 @@
 #import lib/offset.wgsl
 #import lib/surface.wgsl
 #import lib/features.wgsl
+#import lib/light_tree.wgsl
+
+// The CDFs light_table_pick searches: the punctual lights' by power, the area table's, and the
+// directional lights' among themselves (GpuLight::directional_cdf).
+const TABLE_PUNCTUAL: u32 = 0u;
+const TABLE_AREA: u32 = 1u;
+const TABLE_DIRECTIONAL: u32 = 2u;
 
 fn scene_environment() -> Environment {
     var e: Environment;
@@ -71,16 +85,18 @@ fn light_contribution(s: Shading, ls: LightSample) -> vec4<f32> {
     return vec4<f32>(f * ls.radiance, brdf_pdf(s.params, s.wo, wi));
 }
 
-// The entry of the punctual (or, with `area`, the area) light table of `count` > 0 entries
-// that u in [0, 1) picks: the first whose CDF (the running sum of the masses) exceeds u.
-fn light_table_pick(u: f32, count: u32, area: bool) -> u32 {
+// The entry of the light table of `count` > 0 entries that u in [0, 1) picks: the first whose
+// CDF `table` (the running sum of the masses) exceeds u.
+fn light_table_pick(u: f32, count: u32, table: u32) -> u32 {
     var lo = 0u;
     var hi = count - 1u;
     while lo < hi {
         let mid = (lo + hi) / 2u;
         var cdf: f32;
-        if area {
+        if table == TABLE_AREA {
             cdf = scene_area_lights[mid].cdf;
+        } else if table == TABLE_DIRECTIONAL {
+            cdf = scene_lights[mid].directional_cdf;
         } else {
             cdf = scene_lights[mid].cdf;
         }
@@ -108,7 +124,8 @@ fn sample_punctual(light: GpuLight, p: vec3<f32>) -> LightSample {
     return light_sample_none();
 }
 
-// Every punctual light when there are few, else one picked by power (over its probability).
+// Every punctual light when there are few, else one picked (over its probability): by power,
+// or a directional light by power with their share and else a point or spot light by the tree.
 fn punctual_light(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
     let count = scene_info.light_count;
     let any_kind = FEATURE_POINT_LIGHTS || FEATURE_SPOT_LIGHTS || FEATURE_DIRECTIONAL_LIGHTS;
@@ -126,11 +143,27 @@ fn punctual_light(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
     if !any_kind {
         return total;
     }
-    let light = scene_lights[light_table_pick(u, count, false)];
-    return light_contribution(s, sample_punctual(light, s.position)).xyz / light.pmf;
+    let share = scene_info.directional_share;
+    var index: u32;
+    var pmf: f32;
+    if !light_tree_sampling() || scene_info.punctual_tree == NO_INDEX {
+        index = light_table_pick(u, count, TABLE_PUNCTUAL);
+        pmf = scene_lights[index].pmf;
+    } else if u < share {
+        index = light_table_pick(min(u / share, ONE_MINUS_EPSILON), count, TABLE_DIRECTIONAL);
+        pmf = scene_lights[index].pmf;
+    } else {
+        let u_tree = clamp((u - share) / (1.0 - share), 0.0, ONE_MINUS_EPSILON);
+        let pick = light_tree_pick(scene_info.punctual_tree, s.position, s.frame.normal, u_tree);
+        index = pick.light;
+        pmf = (1.0 - share) * pick.pmf;
+    }
+    let light = scene_lights[index];
+    return light_contribution(s, sample_punctual(light, s.position)).xyz / pmf;
 }
 
-// One sample of the area-light table, weighted against BRDF sampling.
+// One sample of the area-light table, weighted against BRDF sampling: the entry picked by
+// power, or the environment (the last entry) with its share and else a triangle by the tree.
 fn area_light(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
     let count = scene_info.area_count;
     let u_pick = pcg32_next_f32(rng);
@@ -138,7 +171,22 @@ fn area_light(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
     if count == 0u {
         return vec3<f32>(0.0);
     }
-    let entry = scene_area_lights[light_table_pick(u_pick, count, true)];
+    let share = scene_info.env_pmf;
+    var index: u32;
+    var pmf: f32;
+    if !light_tree_sampling() || scene_info.area_tree == NO_INDEX {
+        index = light_table_pick(u_pick, count, TABLE_AREA);
+        pmf = scene_area_lights[index].pmf;
+    } else if u_pick < share {
+        index = count - 1u;
+        pmf = share;
+    } else {
+        let u_tree = clamp((u_pick - share) / (1.0 - share), 0.0, ONE_MINUS_EPSILON);
+        let pick = light_tree_pick(scene_info.area_tree, s.position, s.frame.normal, u_tree);
+        index = pick.light;
+        pmf = (1.0 - share) * pick.pmf;
+    }
+    let entry = scene_area_lights[index];
     var ls = light_sample_none();
     if entry.instance == NO_INDEX {
         if FEATURE_ENVIRONMENT {
@@ -158,7 +206,7 @@ fn area_light(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
     if all(c.xyz == vec3<f32>(0.0)) {
         return vec3<f32>(0.0);
     }
-    let light_pdf = entry.pmf * ls.pdf;
+    let light_pdf = pmf * ls.pdf;
     return c.xyz * power_heuristic(1.0, light_pdf, 1.0, c.w) / light_pdf;
 }
 
@@ -167,12 +215,13 @@ fn next_event(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
     return punctual_light(s, rng) + area_light(s, rng);
 }
 
-// The radiance that a ray leaving `source` along world direction wi finds at `hit` (its closest
-// hit; a miss reaches the environment): emission where it hits the emitting side of an
-// emitter. With `weighted`, the ray was drawn by non-delta BRDF sampling with solid-angle pdf
-// `brdf_pdf` and the result carries its power-heuristic weight against area-light sampling
-// from `source`; without, weight 1 (delta bounces, and paths that never sample lights).
-fn emission_reached(source: vec3<f32>, wi: vec3<f32>, hit: Hit, brdf_pdf: f32, weighted: bool) -> vec3<f32> {
+// The radiance that a ray leaving shading point `source` along world direction wi finds at
+// `hit` (its closest hit; a miss reaches the environment): emission where it hits the
+// emitting side of an emitter. With `weighted`, the ray was drawn by non-delta BRDF sampling
+// with solid-angle pdf `brdf_pdf` and the result carries its power-heuristic weight against
+// area-light sampling from `source`; without, weight 1 (delta bounces, and paths that never
+// sample lights).
+fn emission_reached(source: Shading, wi: vec3<f32>, hit: Hit, brdf_pdf: f32, weighted: bool) -> vec3<f32> {
     if hit.instance == BVH_NO_HIT {
         if !FEATURE_ENVIRONMENT || scene_info.env_kind == ENV_BLACK {
             return vec3<f32>(0.0);
@@ -204,10 +253,14 @@ fn emission_reached(source: vec3<f32>, wi: vec3<f32>, hit: Hit, brdf_pdf: f32, w
         let q = world_triangle_point(t, hit.barycentrics);
         let first = scene_instance_extras[hit.instance].area_first;
         var pmf = 0.0;
-        if first != NO_INDEX {
+        if first != NO_INDEX && light_tree_sampling() && scene_info.area_tree != NO_INDEX {
+            let leaf = scene_info.area_leaves + first + hit.triangle;
+            pmf = (1.0 - scene_info.env_pmf)
+                * light_tree_pmf(leaf, source.position, source.frame.normal);
+        } else if first != NO_INDEX {
             pmf = scene_area_lights[first + hit.triangle].pmf;
         }
-        let light_pdf = pmf * triangle_solid_angle_pdf(t.v0, t.v1, t.v2, source, q);
+        let light_pdf = pmf * triangle_solid_angle_pdf(t.v0, t.v1, t.v2, source.position, q);
         weight = power_heuristic(1.0, brdf_pdf, 1.0, light_pdf);
     }
     return emitted * weight;

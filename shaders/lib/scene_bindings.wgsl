@@ -1,4 +1,4 @@
-// The scene part of group(0) beyond the BVH (bindings 8..19), mirroring the records of
+// The scene part of group(0) beyond the BVH (bindings 8..20), mirroring the records of
 // chiaro_gpu::gpu_scene::layout field for field (a test compares the layouts through naga).
 // Also the accessors environment.wgsl asks its importer for.
 
@@ -74,7 +74,7 @@ struct GpuLight {
     inner: f32,
     outer: f32,
     pmf: f32,
-    pad: u32,
+    directional_cdf: f32,
 }
 
 // chiaro_gpu::GpuAreaLight: an emissive triangle, or the environment (instance NO_INDEX).
@@ -106,6 +106,26 @@ struct GpuSceneInfo {
     area_count: u32,
     env_pmf: f32,
     instance_count: u32,
+    area_tree: u32,
+    punctual_tree: u32,
+    directional_share: f32,
+    area_leaves: u32,
+}
+
+// chiaro_gpu::GpuLightTreeNode: a node of a light tree (both trees share binding 20; an inner
+// node's `first` and `second` are its children, a leaf's `first` its light's table index).
+// Area-table entry i's leaf is node scene_info.area_leaves + i.
+struct GpuLightTreeNode {
+    min: vec3<f32>,
+    power: f32,
+    max: vec3<f32>,
+    theta_o: f32,
+    axis: vec3<f32>,
+    theta_e: f32,
+    first: u32,
+    second: u32,
+    parent: u32,
+    leaf: u32,
 }
 
 @group(0) @binding(8) var<storage, read> scene_vertices: array<GpuVertex>;
@@ -120,6 +140,12 @@ struct GpuSceneInfo {
 @group(0) @binding(17) var<storage, read> scene_env_texels: array<vec4<f32>>;
 @group(0) @binding(18) var<storage, read> scene_env_table: array<f32>;
 @group(0) @binding(19) var<uniform> scene_info: GpuSceneInfo;
+@group(0) @binding(20) var<storage, read> scene_light_tree: array<GpuLightTreeNode>;
+
+// The hook lib/light_tree.wgsl reads its nodes through.
+fn light_tree_node(i: u32) -> GpuLightTreeNode {
+    return scene_light_tree[i];
+}
 
 // The environment image's importance table (chiaro_gpu::gpu_scene::gather::environment):
 // marginal CDF at 0 (height + 1), marginal masses at height + 1, conditional CDFs at

@@ -26,7 +26,7 @@ use crate::passes::direct::{DirectParams, DirectPass};
 use crate::passes::gbuffer::GbufferPass;
 use crate::passes::indirect::{IndirectParams, IndirectPass};
 use crate::passes::tonemap::{TonemapParams, TonemapPass};
-use crate::settings::{FrameSettings, REFERENCE_BOUNCES, RenderMode};
+use crate::settings::{FrameSettings, LightSampling, REFERENCE_BOUNCES, RenderMode};
 use crate::shaders::ShaderError;
 use crate::specialization::PipelineFeatures;
 use crate::targets::FrameTargets;
@@ -232,6 +232,8 @@ impl Frame {
             seed_lo,
             seed_hi,
             lights: u32::from(!naive),
+            light_sampling: light_sampling(s),
+            pad: [0; 3],
         };
         queue.write_buffer(&self.direct_params, 0, bytemuck::bytes_of(&direct));
         let indirect = IndirectParams {
@@ -246,7 +248,7 @@ impl Frame {
             },
             naive: u32::from(naive),
             poison: u32::from(input.poison),
-            pad: 0,
+            light_sampling: light_sampling(s),
         };
         queue.write_buffer(&self.indirect_params, 0, bytemuck::bytes_of(&indirect));
         let composite = CompositeParams {
@@ -375,4 +377,12 @@ fn new_encoder(device: &wgpu::Device) -> wgpu::CommandEncoder {
     device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
         label: Some("frame encoder"),
     })
+}
+
+/// The passes' `light_sampling` for `settings`.
+fn light_sampling(settings: &FrameSettings) -> u32 {
+    match settings.light_sampling {
+        LightSampling::Power => crate::gpu_scene::layout::LIGHT_SAMPLING_POWER,
+        LightSampling::Tree => crate::gpu_scene::layout::LIGHT_SAMPLING_TREE,
+    }
 }

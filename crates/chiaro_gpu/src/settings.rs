@@ -2,6 +2,7 @@
 //! one documented struct that is also an ECS resource (an app edits it in its World).
 
 use bevy_ecs::prelude::Resource;
+pub use chiaro_shading::light_tree::LightSampling;
 use chiaro_shading::tonemap::Tonemapper;
 use thiserror::Error;
 
@@ -112,6 +113,12 @@ pub struct FrameSettings {
     /// energy lost (a darker image is the bias of a low cap), more time. Reference and naive
     /// paths end by Russian roulette (at most [`REFERENCE_BOUNCES`]).
     pub bounces: u32,
+    /// How next-event estimation picks a light where it cannot afford them all (the
+    /// emissive triangles and the environment; punctual lights past
+    /// `ALL_PUNCTUAL_LIGHTS_MAX`): `Tree`, by each light's importance to the shading point
+    /// through light trees (less noise with many lights, a few node reads per pick), or
+    /// `Power`, by power alone (the baseline). Both are unbiased.
+    pub light_sampling: LightSampling,
     /// The realtime mode's denoiser.
     pub denoise: DenoiseSettings,
     /// Tonemapping operator of the LDR image.
@@ -129,6 +136,7 @@ impl Default for FrameSettings {
             mode: RenderMode::Realtime,
             spp: 1,
             bounces: 2,
+            light_sampling: LightSampling::Tree,
             denoise: DenoiseSettings::default(),
             tonemapper: Tonemapper::PbrNeutral,
             exposure: 1.0,

@@ -107,7 +107,16 @@ fn scene_records_match_their_wgsl_structs() {
         GpuLight,
         "GpuLight",
         [
-            position, kind, direction, range, intensity, cdf, inner, outer, pmf, pad
+            position,
+            kind,
+            direction,
+            range,
+            intensity,
+            cdf,
+            inner,
+            outer,
+            pmf,
+            directional_cdf
         ]
     );
     check!(
@@ -136,7 +145,19 @@ fn scene_records_match_their_wgsl_structs() {
             light_count,
             area_count,
             env_pmf,
-            instance_count
+            instance_count,
+            area_tree,
+            punctual_tree,
+            directional_share,
+            area_leaves
+        ]
+    );
+    check!(
+        s,
+        GpuLightTreeNode,
+        "GpuLightTreeNode",
+        [
+            min, power, max, theta_o, axis, theta_e, first, second, parent, leaf
         ]
     );
     // The BVH records the scene bind group also carries.

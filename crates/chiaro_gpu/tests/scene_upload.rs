@@ -98,13 +98,21 @@ fn light_and_environment_edits_rewrite_their_tables_only() {
     schedule.run(&mut world);
     assert_eq!(last(&world).bytes, 0);
 
-    // One light brighter: the light table (its record, and the selection CDF after it).
+    // One light brighter: the light table (its record, and the selection CDF after it) and,
+    // with more than ALL_PUNCTUAL_LIGHTS_MAX lights, the punctual light tree's power bounds.
     let mut lights = world.query::<&mut chiaro_scene::Light>();
     lights.iter_mut(&mut world).next().unwrap().intensity *= 2.0;
     schedule.run(&mut world);
     let edited = last(&world);
-    assert_eq!(edited.written(), ["scene lights"], "{edited:?}");
-    assert!(edited.bytes >= 64 && edited.bytes <= 12 * 64);
+    assert_eq!(
+        edited.written(),
+        ["scene light tree", "scene lights"],
+        "{edited:?}"
+    );
+    let lights_bytes = edited.bytes_of("scene lights");
+    assert!((64..=12 * 64).contains(&lights_bytes), "{edited:?}");
+    // The path from the light's leaf to the root, at most: 23 nodes of 64 bytes.
+    assert!(edited.bytes_of("scene light tree") <= 23 * 64, "{edited:?}");
 
     // A constant sky: the environment joins the area-light table and the scene info.
     world.insert_resource(chiaro_scene::Environment::constant(Vec3::splat(0.5)));

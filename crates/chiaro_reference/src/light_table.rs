@@ -17,6 +17,7 @@ use chiaro_bvh::SceneBvh;
 use chiaro_scene::{Aabb, GlobalTransform, Light, LightKind, Materials, Meshes};
 use chiaro_shading::color::luminance;
 use chiaro_shading::distribution::Distribution1D;
+pub use chiaro_shading::light_tree::LightSampling;
 use chiaro_shading::light_tree::{LightBounds, LightTree};
 use glam::Vec3;
 
@@ -51,30 +52,6 @@ pub enum LightEntry {
     },
     /// The environment.
     Environment,
-}
-
-/// How next-event estimation picks a light.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum LightSampling {
-    /// In proportion to each light's power, wherever the shading point is.
-    Power,
-    /// Through a light tree, by each light's importance to the shading point.
-    #[default]
-    Tree,
-}
-
-impl std::str::FromStr for LightSampling {
-    type Err = String;
-
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        match s {
-            "power" => Ok(Self::Power),
-            "tree" => Ok(Self::Tree),
-            other => Err(format!(
-                "unknown light sampling '{other}' (expected power or tree)"
-            )),
-        }
-    }
 }
 
 /// How a light is picked, as built.

@@ -15,6 +15,9 @@
 //! step's child probability mixes in a uniform share of [`UNIFORM_SHARE`], so every light keeps a
 //! non-zero probability whatever the bound says: the estimate stays unbiased even where the
 //! bound, in floating point, would wrongly rule a light out.
+//!
+//! The tree is also readable flat ([`LightTree::nodes`], [`LightTree::leaves`]), for a GPU copy
+//! that walks it the same way; [`LightSampling`] names the choice between it and power alone.
 
 use std::f32::consts::PI;
 
@@ -84,22 +87,51 @@ impl LightBounds {
     }
 }
 
-/// One node: a leaf holds one light, an inner node two children.
-#[derive(Clone, Copy, Debug)]
-struct Node {
-    bounds: LightBounds,
-    /// Inner: index of the first child (the second follows). Leaf: the light's index.
-    first: u32,
-    leaf: bool,
-    parent: u32,
+/// How next-event estimation picks a light.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum LightSampling {
+    /// In proportion to each light's power, wherever the shading point is.
+    Power,
+    /// Through a light tree, by each light's importance to the shading point.
+    #[default]
+    Tree,
 }
 
-const NO_PARENT: u32 = u32::MAX;
+impl std::str::FromStr for LightSampling {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "power" => Ok(Self::Power),
+            "tree" => Ok(Self::Tree),
+            other => Err(format!(
+                "unknown light sampling '{other}' (expected power or tree)"
+            )),
+        }
+    }
+}
+
+/// One node of the flat tree ([`LightTree::nodes`]): a leaf holds one light, an inner node two
+/// children, which always come after it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightTreeNode {
+    /// The bounds of the node's lights (a leaf: its light's).
+    pub bounds: LightBounds,
+    /// Inner: index of the first child (the second follows). Leaf: the light's index.
+    pub first: u32,
+    /// Whether the node is a leaf.
+    pub leaf: bool,
+    /// Index of the parent node, [`NO_PARENT`] for the root (node 0).
+    pub parent: u32,
+}
+
+/// [`LightTreeNode::parent`] of the root.
+pub const NO_PARENT: u32 = u32::MAX;
 
 /// The hierarchy over a set of lights.
 #[derive(Clone, Debug)]
 pub struct LightTree {
-    nodes: Vec<Node>,
+    nodes: Vec<LightTreeNode>,
     /// The leaf of each light.
     leaf_of: Vec<u32>,
 }
@@ -190,7 +222,7 @@ pub fn importance(b: &LightBounds, p: Vec3, n: Vec3) -> f32 {
 }
 
 /// The probability of taking the first of two children with importances `left` and `right`.
-fn first_child_probability(left: f32, right: f32) -> f32 {
+pub fn first_child_probability(left: f32, right: f32) -> f32 {
     let total = left + right;
     let proportional = if total > 0.0 && total.is_finite() {
         left / total
@@ -212,7 +244,7 @@ impl LightTree {
             leaf_of: vec![0; lights.len()],
         };
         let mut order: Vec<u32> = (0..lights.len() as u32).collect();
-        tree.nodes.push(Node {
+        tree.nodes.push(LightTreeNode {
             bounds: lights[0],
             first: 0,
             leaf: true,
@@ -224,7 +256,7 @@ impl LightTree {
             let items = &mut order[start..end];
             if items.len() == 1 {
                 let light = items[0] as usize;
-                tree.nodes[node] = Node {
+                tree.nodes[node] = LightTreeNode {
                     bounds: lights[light],
                     first: light as u32,
                     leaf: true,
@@ -252,7 +284,7 @@ impl LightTree {
             });
             let first = tree.nodes.len();
             for _ in 0..2 {
-                tree.nodes.push(Node {
+                tree.nodes.push(LightTreeNode {
                     bounds: lights[0],
                     first: 0,
                     leaf: true,
@@ -283,6 +315,16 @@ impl LightTree {
     /// True when the tree holds no light (never: [`LightTree::build`] refuses that).
     pub fn is_empty(&self) -> bool {
         self.leaf_of.is_empty()
+    }
+
+    /// The nodes, root first, each inner node's children after it: what a walk reads.
+    pub fn nodes(&self) -> &[LightTreeNode] {
+        &self.nodes
+    }
+
+    /// The leaf node of each light (indexed as the lights passed to [`LightTree::build`]).
+    pub fn leaves(&self) -> &[u32] {
+        &self.leaf_of
     }
 
     /// Total power of the lights.

@@ -13,6 +13,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use bevy_ecs::world::World;
+use chiaro_gpu::settings::LightSampling;
 use chiaro_gpu::{
     FrameSettings, PipelineChoice, RenderError, RenderMode, RenderSettings, Renderer,
 };
@@ -161,17 +162,24 @@ pub const ALL_FEATURES_CONFIG: &str = "realtime-all-features";
 /// The configurations measured by default: direct light only; realtime as it ships, with every
 /// shader feature compiled in rather than only the scene's (what specialisation saves), without
 /// its denoiser, with 2 and 4 paths per pixel and with bounce caps 1 and 3; the naive paths;
-/// the GPU reference.
+/// the GPU reference; and direct and realtime with lights picked by power instead of through
+/// the light trees (the many-lights baseline).
 pub fn default_configs() -> Vec<BenchConfig> {
     let realtime = FrameSettings::default();
     let mut raw = realtime;
     raw.denoise.enabled = false;
+    let direct = FrameSettings {
+        mode: RenderMode::Direct,
+        ..realtime
+    };
+    let power = LightSampling::Power;
     let configs = [
+        ("direct", direct),
         (
-            "direct",
+            "direct-power",
             FrameSettings {
-                mode: RenderMode::Direct,
-                ..realtime
+                light_sampling: power,
+                ..direct
             },
         ),
         ("realtime", realtime),
@@ -179,6 +187,13 @@ pub fn default_configs() -> Vec<BenchConfig> {
             ALL_FEATURES_CONFIG,
             FrameSettings {
                 pipeline: PipelineChoice::AllFeatures,
+                ..realtime
+            },
+        ),
+        (
+            "realtime-power",
+            FrameSettings {
+                light_sampling: power,
                 ..realtime
             },
         ),

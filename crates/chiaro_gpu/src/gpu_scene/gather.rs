@@ -10,6 +10,7 @@ use chiaro_scene::{
     Material, Materials, Meshes, TextureRef, Textures,
 };
 use chiaro_shading::color::luminance;
+use chiaro_shading::light_tree::LightBounds;
 use glam::Vec3;
 
 use super::layout::*;
@@ -160,29 +161,34 @@ fn cdf(weights: &[f64]) -> Vec<(f32, f32)> {
 }
 
 /// The punctual lights with their power-proportional selection CDF (powers as the CPU
-/// reference's light table defines them; `radius` is the scene's bounding radius).
+/// reference's light table defines them; `radius` is the scene's bounding radius), the light
+/// tree's bounds of each (`None` for directional lights, which no tree holds) and the
+/// directional lights' share of the power.
 pub fn lights<'a>(
     all: impl Iterator<Item = (&'a Light, &'a GlobalTransform)>,
     radius: f32,
-) -> Vec<GpuLight> {
+) -> (Vec<GpuLight>, Vec<Option<LightBounds>>, f32) {
     let mut out = Vec::new();
     let mut powers = Vec::new();
+    let mut bounds = Vec::new();
     for (light, global) in all {
         let intensity = light.radiant_intensity();
         let axis = global
             .transform_vector(Vec3::NEG_Z)
             .normalize_or(Vec3::NEG_Z);
+        let position = global.translation();
         let mut record = GpuLight {
-            position: global.translation().to_array(),
+            position: position.to_array(),
             direction: axis.to_array(),
             range: light.range.unwrap_or(f32::INFINITY),
             intensity: intensity.to_array(),
             ..GpuLight::default()
         };
-        let power = match light.kind {
+        let (power, extent) = match light.kind {
             LightKind::Point => {
                 record.kind = LIGHT_POINT;
-                4.0 * PI * luminance(intensity)
+                let power = 4.0 * PI * luminance(intensity);
+                (power, Some(LightBounds::point(position, power)))
             }
             LightKind::Spot {
                 inner_cone_angle,
@@ -191,25 +197,43 @@ pub fn lights<'a>(
                 record.kind = LIGHT_SPOT;
                 record.inner = inner_cone_angle;
                 record.outer = outer_cone_angle;
-                2.0 * PI
+                let power = 2.0
+                    * PI
                     * (1.0 - (0.5 * (inner_cone_angle + outer_cone_angle)).cos())
-                    * luminance(intensity)
+                    * luminance(intensity);
+                let extent = LightBounds::spot(position, axis, outer_cone_angle, power);
+                (power, Some(extent))
             }
             LightKind::Directional => {
                 record.kind = LIGHT_DIRECTIONAL;
-                PI * radius * radius * luminance(intensity)
+                (PI * radius * radius * luminance(intensity), None)
             }
         };
         if power > 0.0 && power.is_finite() {
             out.push(record);
             powers.push(f64::from(power));
+            bounds.push(extent);
         }
     }
     for (light, (c, p)) in out.iter_mut().zip(cdf(&powers)) {
         light.cdf = c;
         light.pmf = p;
     }
-    out
+    let directional: Vec<f64> = powers
+        .iter()
+        .zip(&bounds)
+        .map(|(&p, b)| if b.is_none() { p } else { 0.0 })
+        .collect();
+    for (light, (c, _)) in out.iter_mut().zip(cdf(&directional)) {
+        light.directional_cdf = c;
+    }
+    let total: f64 = powers.iter().sum();
+    let share = if total > 0.0 {
+        (directional.iter().sum::<f64>() / total) as f32
+    } else {
+        0.0
+    };
+    (out, bounds, share)
 }
 
 /// The scene's bounding radius (1 when empty), as the CPU reference computes it.
@@ -222,16 +246,19 @@ pub fn scene_radius(bvh: &SceneBvh) -> f32 {
     }
 }
 
-/// The area-light table (every emissive triangle of every instance, then the environment)
-/// and each instance's first entry ([`NO_INDEX`] when it does not emit).
+/// The area-light table (every emissive triangle of every instance, then the environment),
+/// each instance's first entry ([`NO_INDEX`] when it does not emit), the environment's
+/// probability, and the light tree's bounds of each triangle (entries `0..n` of the table, in
+/// its order: front faces as the CPU reference orients them).
 pub fn area_lights(
     bvh: &SceneBvh,
     meshes: &Meshes,
     materials: &Materials,
     environment: &Environment,
-) -> (Vec<GpuAreaLight>, Vec<u32>, f32) {
+) -> (Vec<GpuAreaLight>, Vec<u32>, f32, Vec<LightBounds>) {
     let mut entries = Vec::new();
     let mut powers = Vec::new();
+    let mut bounds = Vec::new();
     let mut first = vec![NO_INDEX; bvh.instances().len()];
     for (index, record) in bvh.instances().iter().enumerate() {
         let (Some(mesh), Some(material)) =
@@ -245,16 +272,20 @@ pub fn area_lights(
         }
         first[index] = entries.len() as u32;
         let sides = if material.double_sided { 2.0 } else { 1.0 };
+        let mirrored = record.world.matrix3.determinant() < 0.0;
         for triangle in 0..mesh.triangle_count() as u32 {
-            let area = bvh
+            let v = bvh
                 .world_triangle(index as u32, triangle)
-                .map_or(0.0, |v| 0.5 * (v[1] - v[0]).cross(v[2] - v[0]).length());
+                .map(|[a, b, c]| if mirrored { [a, c, b] } else { [a, b, c] })
+                .unwrap_or([Vec3::ZERO; 3]);
+            let power = PI * sides * radiance * 0.5 * (v[1] - v[0]).cross(v[2] - v[0]).length();
             entries.push(GpuAreaLight {
                 instance: index as u32,
                 triangle,
                 ..GpuAreaLight::default()
             });
-            powers.push(f64::from(PI * sides * radiance * area));
+            powers.push(f64::from(power));
+            bounds.push(LightBounds::triangle(v, power, material.double_sided));
         }
     }
     let radius = scene_radius(bvh);
@@ -268,7 +299,7 @@ pub fn area_lights(
     }
     let table = cdf(&powers);
     if table.is_empty() {
-        return (Vec::new(), vec![NO_INDEX; first.len()], 0.0);
+        return (Vec::new(), vec![NO_INDEX; first.len()], 0.0, Vec::new());
     }
     for (e, (c, p)) in entries.iter_mut().zip(table) {
         e.cdf = c;
@@ -278,7 +309,7 @@ pub fn area_lights(
         .last()
         .filter(|e| e.instance == NO_INDEX)
         .map_or(0.0, |e| e.pmf);
-    (entries, first, env_pmf)
+    (entries, first, env_pmf, bounds)
 }
 
 /// chiaro_shading's `Distribution1D` over `weights` as its arrays: the CDF (`n + 1` entries,

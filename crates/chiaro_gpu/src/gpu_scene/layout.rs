@@ -44,9 +44,14 @@ pub const SAMPLER_NEAREST: u32 = 16;
 /// with more it picks one by power.
 pub const ALL_PUNCTUAL_LIGHTS_MAX: u32 = 8;
 
+/// `light_sampling` of the direct and indirect passes' params: pick by power alone.
+pub const LIGHT_SAMPLING_POWER: u32 = 0;
+/// `light_sampling` of the passes' params: pick through the light trees.
+pub const LIGHT_SAMPLING_TREE: u32 = 1;
+
 /// The constants above, for the generated WGSL module.
 pub fn constants() -> Vec<SharedConstant> {
-    use SharedConstant::U32;
+    use SharedConstant::{F32, U32};
     vec![
         U32("NO_INDEX", NO_INDEX),
         U32("MATERIAL_ALPHA_MASK", MATERIAL_ALPHA_MASK),
@@ -62,6 +67,12 @@ pub fn constants() -> Vec<SharedConstant> {
         U32("ENV_IMAGE", ENV_IMAGE),
         U32("SAMPLER_NEAREST", SAMPLER_NEAREST),
         U32("ALL_PUNCTUAL_LIGHTS_MAX", ALL_PUNCTUAL_LIGHTS_MAX),
+        U32("LIGHT_SAMPLING_POWER", LIGHT_SAMPLING_POWER),
+        U32("LIGHT_SAMPLING_TREE", LIGHT_SAMPLING_TREE),
+        F32(
+            "LIGHT_TREE_UNIFORM_SHARE",
+            chiaro_shading::light_tree::UNIFORM_SHARE,
+        ),
     ]
 }
 
@@ -203,8 +214,10 @@ pub struct GpuLight {
     pub outer: f32,
     /// Probability of picking this light when one is picked by power.
     pub pmf: f32,
-    /// Padding, zero.
-    pub pad: u32,
+    /// A directional light's power-proportional CDF among the directional lights only, up to
+    /// and including it (running on, flat, through the other kinds; 1 from the last
+    /// directional light on): how tree sampling picks a directional light.
+    pub directional_cdf: f32,
 }
 
 /// One entry of the area-light table: an emissive triangle of an instance, or the
@@ -220,6 +233,35 @@ pub struct GpuAreaLight {
     pub cdf: f32,
     /// Probability of picking this entry.
     pub pmf: f32,
+}
+
+/// One node of a light tree (`chiaro_shading::light_tree::LightTreeNode`): the bounds of its
+/// lights and its links. Both trees (area, then punctual) share one buffer; indices are into
+/// it (see `gpu_scene::light_trees` for the layout).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+#[repr(C, align(16))]
+pub struct GpuLightTreeNode {
+    /// Lower corner of the lights' bounding box.
+    pub min: [f32; 3],
+    /// Their power (luminance).
+    pub power: f32,
+    /// Upper corner.
+    pub max: [f32; 3],
+    /// Half-angle of the cone of normals.
+    pub theta_o: f32,
+    /// Unit axis of the emission cone.
+    pub axis: [f32; 3],
+    /// Spread of emission beyond the cone of normals.
+    pub theta_e: f32,
+    /// Inner node: the first child's index. Leaf: the light's index in its table (area-light
+    /// table or punctual lights).
+    pub first: u32,
+    /// Inner node: the second child's index. Leaf: [`NO_INDEX`].
+    pub second: u32,
+    /// The parent's index, [`NO_INDEX`] for a root.
+    pub parent: u32,
+    /// 1 for a leaf, 0 for an inner node.
+    pub leaf: u32,
 }
 
 /// Per-instance data beside `chiaro_bvh::GpuInstance`.
@@ -263,6 +305,17 @@ pub struct GpuSceneInfo {
     pub env_pmf: f32,
     /// Number of instances.
     pub instance_count: u32,
+    /// Root of the tree over the area table's emissive triangles, [`NO_INDEX`] when none.
+    pub area_tree: u32,
+    /// Root of the tree over the point and spot lights, [`NO_INDEX`] when none (it is built
+    /// only with more than [`ALL_PUNCTUAL_LIGHTS_MAX`] punctual lights).
+    pub punctual_tree: u32,
+    /// The directional lights' share of the punctual lights' power: under tree sampling, the
+    /// probability of picking one of them (by power) rather than walking the punctual tree.
+    pub directional_share: f32,
+    /// The area tree's leaf of area-table entry 0: entry i's is `area_leaves + i` (the
+    /// environment, the last entry, has none).
+    pub area_leaves: u32,
 }
 
 #[cfg(test)]
@@ -276,7 +329,8 @@ mod tests {
         assert_eq!(size_of::<GpuMaterial>(), 256);
         assert_eq!(size_of::<GpuLight>(), 64);
         assert_eq!(size_of::<GpuInstanceExtra>(), 64);
-        assert_eq!(size_of::<GpuSceneInfo>(), 48);
+        assert_eq!(size_of::<GpuSceneInfo>(), 64);
+        assert_eq!(size_of::<GpuLightTreeNode>(), 64);
         assert_eq!(GpuTextureSlot::default().texture, NO_INDEX);
     }
 }

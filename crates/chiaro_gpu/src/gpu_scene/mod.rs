@@ -23,6 +23,7 @@
 //! | 17 | environment texels | `vec4<f32>` |
 //! | 18 | environment importance table | `f32` |
 //! | 19 | scene info (uniform) | [`GpuSceneInfo`] |
+//! | 20 | light tree nodes (area tree, then punctual) | [`GpuLightTreeNode`] |
 //!
 //! Textures live in one storage buffer of texels (an atlas in a buffer) rather than a texture
 //! array: an array needs every layer the same size (glTF textures differ, and resampling them
@@ -38,6 +39,7 @@
 
 mod gather;
 pub mod layout;
+pub mod light_trees;
 mod mirror;
 
 use bevy_ecs::prelude::*;
@@ -45,9 +47,10 @@ use chiaro_bvh::{BvhTriangle, CwBvhNode, GpuBvhBuffers, GpuInstance, SceneBvh, T
 use chiaro_scene::{Environment, GlobalTransform, Light, Materials, Meshes, Textures};
 
 pub use layout::{
-    GpuAreaLight, GpuInstanceExtra, GpuLight, GpuMaterial, GpuMesh, GpuSceneInfo, GpuTextureInfo,
-    GpuTextureSlot, GpuVertex,
+    GpuAreaLight, GpuInstanceExtra, GpuLight, GpuLightTreeNode, GpuMaterial, GpuMesh, GpuSceneInfo,
+    GpuTextureInfo, GpuTextureSlot, GpuVertex,
 };
+use light_trees::FlatTree;
 pub use mirror::{MirrorBuffer, UploadStats};
 
 /// The scene's GPU buffers (a resource of the world).
@@ -75,6 +78,9 @@ pub struct GpuScene {
     env_texels: MirrorBuffer<[f32; 4]>,
     env_table: MirrorBuffer<f32>,
     info_buffer: MirrorBuffer<GpuSceneInfo>,
+    light_tree: MirrorBuffer<GpuLightTreeNode>,
+    area_tree: FlatTree,
+    punctual_tree: FlatTree,
     /// The scene info as uploaded.
     pub info: GpuSceneInfo,
     /// Every upload since the scene was made.
@@ -90,7 +96,7 @@ pub struct GpuScene {
 const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE;
 
 /// The bindings of group(0), in order, with whether each is the uniform.
-const BINDINGS: [(u32, bool); 16] = [
+const BINDINGS: [(u32, bool); 17] = [
     (0, false),
     (1, false),
     (2, false),
@@ -107,6 +113,7 @@ const BINDINGS: [(u32, bool); 16] = [
     (17, false),
     (18, false),
     (19, true),
+    (20, false),
 ];
 
 impl GpuScene {
@@ -156,6 +163,9 @@ impl GpuScene {
             env_texels: MirrorBuffer::new(d, "scene environment texels", STORAGE),
             env_table: MirrorBuffer::new(d, "scene environment table", STORAGE),
             info_buffer: MirrorBuffer::new(d, "scene info", wgpu::BufferUsages::UNIFORM),
+            light_tree: MirrorBuffer::new(d, "scene light tree", STORAGE),
+            area_tree: FlatTree::default(),
+            punctual_tree: FlatTree::default(),
             info: GpuSceneInfo::default(),
             total: UploadStats::default(),
             last: UploadStats::default(),
@@ -191,7 +201,7 @@ impl GpuScene {
         self.instances.contents()
     }
 
-    fn buffers(&self) -> [&wgpu::Buffer; 16] {
+    fn buffers(&self) -> [&wgpu::Buffer; 17] {
         [
             self.blas_nodes.buffer(),
             self.triangles.buffer(),
@@ -209,6 +219,7 @@ impl GpuScene {
             self.env_texels.buffer(),
             self.env_table.buffer(),
             self.info_buffer.buffer(),
+            self.light_tree.buffer(),
         ]
     }
 
@@ -318,22 +329,38 @@ pub fn upload_gpu_scene(
         !changed_lights.is_empty() || removed_lights.read().count() > 0 || bvh_changed;
     if fresh || lights_changed {
         let radius = gather::scene_radius(&bvh);
-        let table = gather::lights(lights.iter(), radius);
+        let (table, bounds, directional_share) = gather::lights(lights.iter(), radius);
         info.light_count = table.len() as u32;
+        info.directional_share = directional_share;
+        scene.punctual_tree = if table.len() > layout::ALL_PUNCTUAL_LIGHTS_MAX as usize {
+            FlatTree::build(&bounds)
+        } else {
+            FlatTree::default()
+        };
         put!(scene, stats, realloc, lights, &table);
     }
-    if bvh_changed || materials_changed || env_changed {
-        let (table, first, env_pmf) =
+    let area_changed = bvh_changed || materials_changed || env_changed;
+    if area_changed {
+        let (table, first, env_pmf, bounds) =
             gather::area_lights(&bvh, meshes_ref, materials_ref, environment_ref);
         info.area_count = table.len() as u32;
         info.env_pmf = env_pmf;
         scene.area_first = first;
+        let bounds: Vec<_> = bounds.into_iter().map(Some).collect();
+        scene.area_tree = FlatTree::build(&bounds);
         put!(scene, stats, realloc, area_lights, &table);
+    }
+    if fresh || lights_changed || area_changed {
+        let (nodes, area_root, punctual_root) =
+            light_trees::combine(&scene.area_tree, &scene.punctual_tree);
+        info.area_tree = area_root;
+        info.punctual_tree = punctual_root;
+        info.area_leaves = scene.area_tree.leaf(0);
+        put!(scene, stats, realloc, light_tree, &nodes);
     }
     // The per-instance extras change when the BVH or the area lights do, and once more the
     // frame after an instance moved (its previous transform catches up); otherwise this
     // per-frame system does no per-instance work.
-    let area_changed = bvh_changed || materials_changed || env_changed;
     if area_changed || scene.motion_pending {
         write_instance_extras(scene, bvh_changed, &mut stats, &mut realloc);
         scene.motion_pending = bvh_changed;

@@ -25,6 +25,11 @@ pub struct DirectParams {
     /// light in this pass (the indirect pass's paths carry all of it), uncovered pixels still
     /// show the environment.
     pub lights: u32,
+    /// How a light is picked: `LIGHT_SAMPLING_POWER` or `LIGHT_SAMPLING_TREE`
+    /// (`gpu_scene::layout`).
+    pub light_sampling: u32,
+    /// Padding.
+    pub pad: [u32; 3],
 }
 
 /// Selects the direct pass's shader and output.

@@ -29,8 +29,9 @@ pub struct IndirectParams {
     pub naive: u32,
     /// Test hook: nonzero writes NaN at pixel (0, 0) and +infinity at pixel (1, 0).
     pub poison: u32,
-    /// Padding.
-    pub pad: u32,
+    /// How a light is picked: `LIGHT_SAMPLING_POWER` or `LIGHT_SAMPLING_TREE`
+    /// (`gpu_scene::layout`).
+    pub light_sampling: u32,
 }
 
 /// Selects the indirect pass's shader and output.

@@ -155,3 +155,26 @@ fn degenerate_input_is_safe() {
     let (light, pmf) = tree.pick(Vec3::ONE, Vec3::Y, 0.999_999_9);
     assert!(light < 4 && pmf.is_finite() && pmf > 0.0);
 }
+
+#[test]
+fn the_flat_tree_links_up_and_down() {
+    let mut rng = Pcg32::new(11, 2);
+    for n in [1, 2, 5, 64] {
+        let lights = random_lights(&mut rng, n);
+        let tree = LightTree::build(&lights).unwrap();
+        let nodes = tree.nodes();
+        assert_eq!(nodes.len(), 2 * n - 1);
+        assert_eq!(nodes[0].parent, NO_PARENT);
+        for (light, &leaf) in tree.leaves().iter().enumerate() {
+            let node = nodes[leaf as usize];
+            assert!(node.leaf && node.first as usize == light);
+            assert_eq!(node.bounds, lights[light]);
+        }
+        for (i, node) in nodes.iter().enumerate().filter(|(_, n)| !n.leaf) {
+            let first = node.first as usize;
+            assert!(first > i);
+            assert_eq!(nodes[first].parent as usize, i);
+            assert_eq!(nodes[first + 1].parent as usize, i);
+        }
+    }
+}
