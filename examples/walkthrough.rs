@@ -18,12 +18,12 @@ use glam::Vec3;
 pub const SCENE: &str = "builtin:cornell";
 
 /// Keyframes: eye and look-at point, in metres. From the box's classic viewpoint in front of
-/// the open side, in through it, past the short block and up to look down on the floor.
+/// the open side, in through it, round the blocks and up to look down on the short block.
 pub const KEYFRAMES: [(Vec3, Vec3); 4] = [
     (Vec3::new(0.278, 0.273, -0.8), Vec3::new(0.278, 0.273, 0.28)),
     (Vec3::new(0.2, 0.3, -0.35), Vec3::new(0.3, 0.2, 0.35)),
     (Vec3::new(0.4, 0.35, -0.05), Vec3::new(0.15, 0.15, 0.4)),
-    (Vec3::new(0.278, 0.42, 0.05), Vec3::new(0.278, 0.1, 0.45)),
+    (Vec3::new(0.1, 0.45, 0.0), Vec3::new(0.25, 0.1, 0.3)),
 ];
 
 /// The uniform Catmull-Rom spline through `p`, at `t` in [0, 1] over the whole path;
