@@ -14,7 +14,10 @@
 //!   the edit's cost. Each run also writes the previous move's instance extras (its previous
 //!   transform catching up), as a frame does while an object is dragged. Reported: median and
 //!   p95 of the schedule's time and of the BVH system's own time (`BvhStats::last_work_seconds`),
+//!   the medians of each system's time over a second series of moves (each run alone),
 //!   bytes written per edit, which buffers, and what the BVH did (re-insertions, rebuilds).
+//!   After each timed run the queue is submitted and the device waited on, untimed, as a frame
+//!   would (otherwise wgpu's staging for the writes piles up and some runs pay for it).
 //! - material: one material's base colour changes; reported: bytes written, which buffers, and
 //!   how many material records that is.
 //! - idle: a run with no edit; reported: bytes written (none).
@@ -55,6 +58,9 @@ pub struct EditCost {
     pub idle_upload: UploadStats,
     /// Bytes the first upload wrote (the whole scene).
     pub first_upload_bytes: u64,
+    /// Per move of a second series: the time of transform propagation, of the BVH update and
+    /// of the upload, each run alone.
+    pub part_times: Vec<[Duration; 3]>,
 }
 
 impl EditCost {
@@ -105,14 +111,7 @@ pub fn measure(context: &GpuContext, n: usize, edits: usize) -> Result<EditCost,
     let mut bvh_times = Vec::with_capacity(edits);
     let mut move_uploads = Vec::with_capacity(edits);
     for edit in 0..edits {
-        // A different sphere each time, spread over the grid; a nudge that keeps it in its cell.
-        let entity = spheres[(edit * 7919) % spheres.len()];
-        let angle = edit as f32 * 2.4;
-        let nudge = Vec3::new(angle.cos(), 0.0, angle.sin()) * 0.05;
-        world
-            .get_mut::<Transform>(entity)
-            .ok_or("an instance without a transform")?
-            .translation += nudge;
+        nudge(&mut world, &spheres, edit)?;
         let start = Instant::now();
         schedule.run(&mut world);
         move_times.push(start.elapsed());
@@ -120,6 +119,7 @@ pub fn measure(context: &GpuContext, n: usize, edits: usize) -> Result<EditCost,
             world.resource::<BvhStats>().last_work_seconds,
         ));
         move_uploads.push(world.resource::<GpuScene>().last.clone());
+        settle(context);
     }
     // The last move's previous transform catches up.
     schedule.run(&mut world);
@@ -137,6 +137,32 @@ pub fn measure(context: &GpuContext, n: usize, edits: usize) -> Result<EditCost,
     schedule.run(&mut world);
     let idle_upload = world.resource::<GpuScene>().last.clone();
 
+    // The same moves again, the three systems each in a schedule of its own (in the same
+    // order), to see where the time goes. A new system first sees everything as changed: one
+    // untimed run each before the moves.
+    let mut parts = [
+        Schedule::default(),
+        Schedule::default(),
+        Schedule::default(),
+    ];
+    parts[0].add_systems(chiaro_scene::propagate_transforms);
+    parts[1].add_systems(chiaro_bvh::update_scene_bvh);
+    parts[2].add_systems(chiaro_gpu::upload_gpu_scene);
+    for part in &mut parts {
+        part.run(&mut world);
+    }
+    settle(context);
+    let mut part_times = Vec::with_capacity(edits);
+    for edit in 0..edits {
+        nudge(&mut world, &spheres, edits + edit)?;
+        part_times.push(parts.each_mut().map(|part| {
+            let start = Instant::now();
+            part.run(&mut world);
+            start.elapsed()
+        }));
+        settle(context);
+    }
+
     Ok(EditCost {
         instances: bvh_after.instances,
         move_times,
@@ -147,7 +173,27 @@ pub fn measure(context: &GpuContext, n: usize, edits: usize) -> Result<EditCost,
         material_upload,
         idle_upload,
         first_upload_bytes,
+        part_times,
     })
+}
+
+/// Moves sphere number `edit` (a different one each time, spread over the grid) by a few
+/// centimetres, within its cell.
+fn nudge(world: &mut World, spheres: &[Entity], edit: usize) -> Result<(), Error> {
+    let entity = spheres[(edit * 7919) % spheres.len()];
+    let angle = edit as f32 * 2.4;
+    world
+        .get_mut::<Transform>(entity)
+        .ok_or("an instance without a transform")?
+        .translation += Vec3::new(angle.cos(), 0.0, angle.sin()) * 0.05;
+    Ok(())
+}
+
+/// What a frame does after the systems, untimed: submit (the writes go with it) and wait;
+/// otherwise wgpu's staging for the writes piles up and some runs pay for it.
+fn settle(context: &GpuContext) {
+    context.queue.submit(std::iter::empty());
+    let _ = context.device.poll(wgpu::PollType::wait_indefinitely());
 }
 
 fn ms(d: Duration) -> f64 {
@@ -179,16 +225,21 @@ fn main() -> Result<(), Error> {
         "builtin:instances?n={n}: {} instances, first upload {} bytes",
         cost.instances, cost.first_upload_bytes
     );
+    let part = |k: usize| {
+        let times: Vec<Duration> = cost.part_times.iter().map(|p| p[k]).collect();
+        ms(quantile(&times, 0.5))
+    };
     println!(
-        "| edit | CPU median (ms) | CPU p95 (ms) | BVH median (ms) | BVH p95 (ms) | bytes written | buffers written |"
+        "| edit | CPU median (ms) | CPU p95 (ms) | propagation / BVH / upload, medians (ms) | bytes written | buffers written |"
     );
-    println!("|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|");
     println!(
-        "| move one instance ({edits} edits) | {:.3} | {:.3} | {:.3} | {:.3} | {:.0} mean, {} max | {} |",
+        "| move one instance ({edits} edits) | {:.3} | {:.3} | {:.3} / {:.3} / {:.3} | {:.0} mean, {} max | {} |",
         ms(quantile(&cost.move_times, 0.5)),
         ms(quantile(&cost.move_times, 0.95)),
-        ms(quantile(&cost.bvh_times, 0.5)),
-        ms(quantile(&cost.bvh_times, 0.95)),
+        part(0),
+        part(1),
+        part(2),
         mean_bytes,
         bytes.iter().max().unwrap_or(&0),
         cost.move_buffers()
@@ -197,18 +248,23 @@ fn main() -> Result<(), Error> {
             .join(", "),
     );
     println!(
-        "| material base colour | | | | | {} ({} material record) | {} |",
+        "| material base colour | | | | {} ({} material record) | {} |",
         cost.material_upload.bytes,
         cost.material_records(),
         cost.material_upload.written().join(", "),
     );
     println!(
-        "| no edit | | | | | {} | {} |",
+        "| no edit | | | | {} | {} |",
         cost.idle_upload.bytes,
         cost.idle_upload.written().join(", ")
     );
     println!(
-        "BVH over the moves: {} TLAS updates, {} TLAS rebuilds, {} BLAS builds",
+        "BVH system's own time per move (BvhStats): median {:.3} ms, p95 {:.3} ms",
+        ms(quantile(&cost.bvh_times, 0.5)),
+        ms(quantile(&cost.bvh_times, 0.95))
+    );
+    println!(
+        "BVH over the timed moves: {} TLAS updates, {} TLAS rebuilds, {} BLAS builds",
         a.tlas_updates - b.tlas_updates,
         a.tlas_builds - b.tlas_builds,
         a.blas_builds - b.blas_builds
