@@ -288,7 +288,7 @@ impl Renderer {
         let gpu_camera = GpuCamera::new(&camera, &global, width, height, jitter, self.previous);
         let scene = world.resource::<GpuScene>();
         let changed = self.previous != Some(gpu_camera.unjittered())
-            || scene.last.writes > 0
+            || scene.content_changed
             || self.last_settings != Some(settings.frame);
         if self.reset_history || (changed && settings.frame.mode.accumulates()) {
             self.accumulated = 0;

@@ -213,11 +213,9 @@ fn edits_through_ecs_converge_and_upload_only_what_changed() {
             "{edit:?}: frames without edits wrote"
         );
         let image = renderer.read(&live_settings).unwrap();
-        assert!(
-            image.frames >= FRAMES - 1,
-            "{edit:?}: {} frames",
-            image.frames
-        );
+        // The mean restarts once, at the edit: the previous transforms that catch up the frame
+        // after a move feed motion vectors only and do not restart it again.
+        assert_eq!(image.frames, FRAMES, "{edit:?}: {} frames", image.frames);
         edited.push((before, image.clone()));
         before = image;
     }

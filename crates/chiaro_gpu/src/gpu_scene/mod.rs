@@ -87,6 +87,10 @@ pub struct GpuScene {
     pub total: UploadStats,
     /// The uploads of the last [`upload_gpu_scene`] run.
     pub last: UploadStats,
+    /// Whether the last [`upload_gpu_scene`] run saw the scene change: anything but the
+    /// previous transforms catching up the frame after an instance moved (which feed motion
+    /// vectors and change no image).
+    pub content_changed: bool,
     uploaded: bool,
     motion_pending: bool,
     current_transforms: Vec<[[f32; 4]; 3]>,
@@ -170,6 +174,7 @@ impl GpuScene {
             total: UploadStats::default(),
             last: UploadStats::default(),
             uploaded: false,
+            content_changed: false,
             motion_pending: false,
             current_transforms: Vec::new(),
             area_first: Vec::new(),
@@ -294,7 +299,8 @@ pub fn upload_gpu_scene(
         put!(scene, stats, realloc, tlas_nodes, &flat.tlas_nodes);
         put!(scene, stats, realloc, instances, &flat.instances);
     }
-    if fresh || meshes.as_ref().is_some_and(|m| m.is_changed()) {
+    let meshes_changed = fresh || meshes.as_ref().is_some_and(|m| m.is_changed());
+    if meshes_changed {
         let (vertices, indices, table) = gather::meshes(meshes_ref);
         put!(scene, stats, realloc, vertices, &vertices);
         put!(scene, stats, realloc, indices, &indices);
@@ -310,7 +316,8 @@ pub fn upload_gpu_scene(
             &gather::materials(materials_ref)
         );
     }
-    if fresh || textures.as_ref().is_some_and(|t| t.is_changed()) {
+    let textures_changed = fresh || textures.as_ref().is_some_and(|t| t.is_changed());
+    if textures_changed {
         let (texels, table) = textures
             .as_deref()
             .map(gather::textures)
@@ -361,6 +368,8 @@ pub fn upload_gpu_scene(
     // The per-instance extras change when the BVH or the area lights do, and once more the
     // frame after an instance moved (its previous transform catches up); otherwise this
     // per-frame system does no per-instance work.
+    scene.content_changed =
+        bvh_changed || meshes_changed || textures_changed || lights_changed || area_changed;
     if area_changed || scene.motion_pending {
         write_instance_extras(scene, bvh_changed, &mut stats, &mut realloc);
         scene.motion_pending = bvh_changed;
