@@ -131,13 +131,38 @@ fn use_timestamps(context: &GpuContext) -> bool {
     context.timestamps && std::env::var("CHIARO_TIMER").map_or(true, |v| v != "wall")
 }
 
+/// The passes that read the scene (G-buffer, direct, indirect), each with its pipelines for
+/// every feature set it has rendered with. They do not depend on the output size, so a resized
+/// frame keeps them and recompiles nothing.
+pub struct ScenePasses {
+    gbuffer: GbufferPass,
+    direct: DirectPass,
+    indirect: IndirectPass,
+}
+
+impl ScenePasses {
+    /// The passes for `scene`'s bind-group layout (their pipelines are built on first use).
+    pub fn new(device: &wgpu::Device, scene: &GpuScene) -> Result<Self, ShaderError> {
+        Ok(Self {
+            gbuffer: GbufferPass::new(device, scene)?,
+            direct: DirectPass::new(device, scene)?,
+            indirect: IndirectPass::new(device, scene)?,
+        })
+    }
+
+    /// Pipelines built so far by the three passes.
+    pub fn pipeline_builds(&self) -> u32 {
+        self.gbuffer.pipeline_builds()
+            + self.direct.pipeline_builds()
+            + self.indirect.pipeline_builds()
+    }
+}
+
 /// The frame's passes and their resources at one output size.
 pub struct Frame {
     /// The images the passes write.
     pub targets: FrameTargets,
-    gbuffer: GbufferPass,
-    direct: DirectPass,
-    indirect: IndirectPass,
+    scene_passes: ScenePasses,
     composite: CompositePass,
     tonemap: TonemapPass,
     denoiser: Denoiser,
@@ -158,18 +183,21 @@ pub struct Frame {
 }
 
 impl Frame {
-    /// The passes for `scene` at `width` x `height`.
+    /// The frame at `width` x `height` over the scene passes (new ones, or those of a frame of
+    /// another size: see [`Frame::into_scene_passes`]).
     pub fn new(
         context: &GpuContext,
-        scene: &GpuScene,
+        scene_passes: ScenePasses,
         width: u32,
         height: u32,
     ) -> Result<Self, ShaderError> {
         let device = &context.device;
         let targets = FrameTargets::new(device, width, height);
-        let gbuffer = GbufferPass::new(device, scene)?;
-        let direct = DirectPass::new(device, scene)?;
-        let indirect = IndirectPass::new(device, scene)?;
+        let ScenePasses {
+            gbuffer,
+            direct,
+            indirect,
+        } = &scene_passes;
         let composite = CompositePass::new(device)?;
         let tonemap = TonemapPass::new(device)?;
         let camera = uniform_buffer(device, "camera uniform", size_of::<GpuCamera>());
@@ -192,9 +220,7 @@ impl Frame {
             tonemap_group: tonemap.bind_group(device, &targets, &tonemap_params),
             timer: PassTimer::new(device, &context.queue, use_timestamps(context), MAX_PASSES),
             targets,
-            gbuffer,
-            direct,
-            indirect,
+            scene_passes,
             composite,
             tonemap,
             denoiser,
@@ -207,10 +233,20 @@ impl Frame {
         })
     }
 
+    /// The scene passes, with their compiled pipelines, for a frame of another size.
+    pub fn into_scene_passes(self) -> ScenePasses {
+        self.scene_passes
+    }
+
+    /// Pipelines the scene passes built so far.
+    pub fn pipeline_builds(&self) -> u32 {
+        self.scene_passes.pipeline_builds()
+    }
+
     /// The feature set the last frame's direct pass rendered with (while a new feature set
     /// compiles in the background, the passes switch to it each when its pipeline is ready).
     pub fn features(&self) -> Option<PipelineFeatures> {
-        self.direct.features()
+        self.scene_passes.direct.features()
     }
 
     /// The realtime mode's denoiser (its history and output, for tests and debug views).
@@ -289,15 +325,21 @@ impl Frame {
         let t = &self.targets;
         let timer = &self.timer;
         match pass {
-            Pass::Gbuffer => {
-                self.gbuffer
-                    .record(encoder, scene, &self.camera_group, t, timer.render(index))
-            }
-            Pass::Direct => {
-                self.direct
-                    .record(encoder, scene, &self.direct_group, t, timer.compute(index))
-            }
-            Pass::Indirect => self.indirect.record(
+            Pass::Gbuffer => self.scene_passes.gbuffer.record(
+                encoder,
+                scene,
+                &self.camera_group,
+                t,
+                timer.render(index),
+            ),
+            Pass::Direct => self.scene_passes.direct.record(
+                encoder,
+                scene,
+                &self.direct_group,
+                t,
+                timer.compute(index),
+            ),
+            Pass::Indirect => self.scene_passes.indirect.record(
                 encoder,
                 scene,
                 &self.indirect_group,
@@ -336,10 +378,15 @@ impl Frame {
     ) -> PassTimes {
         let (device, queue) = (&context.device, &context.queue);
         let (features, background) = (input.features, input.background_compile);
-        self.gbuffer.specialize(device, features, background);
-        self.direct.specialize(device, features, background);
+        let scene_passes = &mut self.scene_passes;
+        scene_passes
+            .gbuffer
+            .specialize(device, features, background);
+        scene_passes.direct.specialize(device, features, background);
         if input.settings.mode != RenderMode::Direct {
-            self.indirect.specialize(device, features, background);
+            scene_passes
+                .indirect
+                .specialize(device, features, background);
         }
         self.write_uniforms(queue, camera, input);
         let run = passes(&input.settings);

@@ -12,7 +12,7 @@ use thiserror::Error;
 
 use crate::camera::{GpuCamera, NoCamera, active_camera};
 use crate::context::GpuContext;
-use crate::frame::{Frame, FrameInput};
+use crate::frame::{Frame, FrameInput, ScenePasses};
 use crate::gpu_scene::{GpuScene, add_gpu_scene_systems};
 use crate::readback::{ReadbackError, read_hdr, read_texture};
 use crate::settings::{FrameSettings, SettingsError};
@@ -272,8 +272,12 @@ impl Renderer {
             if own_systems {
                 self.schedule.run(world);
             }
-            let scene = world.resource::<GpuScene>();
-            self.frame = Some(Frame::new(&self.context, scene, width, height)?);
+            // A new size keeps the scene passes and every pipeline they compiled.
+            let scene_passes = match self.frame.take() {
+                Some(old) => old.into_scene_passes(),
+                None => ScenePasses::new(&self.context.device, world.resource::<GpuScene>())?,
+            };
+            self.frame = Some(Frame::new(&self.context, scene_passes, width, height)?);
             self.accumulated = 0;
             self.reset_history = true;
         }

@@ -229,6 +229,8 @@ pub struct PipelineCache<P> {
     pending: Option<(PipelineFeatures, mpsc::Receiver<P>)>,
     /// The feature set the last frame rendered with.
     current: Option<PipelineFeatures>,
+    /// Pipelines built (or started in the background) so far.
+    builds: u32,
 }
 
 impl<P> Default for PipelineCache<P> {
@@ -237,6 +239,7 @@ impl<P> Default for PipelineCache<P> {
             pipelines: HashMap::new(),
             pending: None,
             current: None,
+            builds: 0,
         }
     }
 }
@@ -262,6 +265,7 @@ impl<P: Send + 'static> PipelineCache<P> {
             wanted
         } else if let (true, Some(current)) = (background, self.current) {
             if self.pending.as_ref().is_none_or(|(f, _)| *f != wanted) {
+                self.builds += 1;
                 let (sender, receiver) = mpsc::channel();
                 std::thread::spawn(move || {
                     // The receiver is gone only when the cache was dropped: nothing to do.
@@ -271,6 +275,7 @@ impl<P: Send + 'static> PipelineCache<P> {
             }
             current
         } else {
+            self.builds += 1;
             self.pipelines.insert(wanted, build(wanted));
             wanted
         };
@@ -286,6 +291,11 @@ impl<P: Send + 'static> PipelineCache<P> {
     /// The pipeline the last [`PipelineCache::select`] returned.
     pub fn pipeline(&self) -> Option<&P> {
         self.current.and_then(|f| self.pipelines.get(&f))
+    }
+
+    /// Pipelines built, or started in the background, since the cache was made.
+    pub fn builds(&self) -> u32 {
+        self.builds
     }
 
     /// Whether a pipeline is being built in the background.
@@ -342,6 +352,7 @@ mod tests {
         assert_eq!(*cache.select(a, false, |_| panic!("built twice")), 0);
         assert_eq!(*cache.select(b, false, |f| f.0), b.0);
         assert_eq!(cache.current(), Some(b));
+        assert_eq!(cache.builds(), 2);
     }
 
     #[test]

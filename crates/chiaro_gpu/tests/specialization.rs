@@ -323,3 +323,30 @@ fn a_new_feature_compiles_in_the_background_while_the_old_pipeline_renders() {
     let e = rel_mse(&switched.hdr, &exact.hdr);
     assert!(e <= ROUNDING, "{e:.3e}");
 }
+
+/// A new output size keeps the compiled pipelines (a window resize recompiles nothing), and the
+/// resized frame is the image a fresh renderer gives at that size.
+#[test]
+fn a_resize_keeps_the_compiled_pipelines() {
+    let Some(context) = common::gpu() else {
+        return;
+    };
+    let mut renderer = Renderer::new(context);
+    let mut world = cornell();
+    let small = settings(PipelineChoice::Specialized);
+    renderer.render(&mut world, &small).unwrap();
+    let builds = renderer.frame().unwrap().pipeline_builds();
+    assert_eq!(builds, 3, "gbuffer, direct and indirect");
+    let large = RenderSettings {
+        width: 40,
+        height: 24,
+        ..small
+    };
+    let resized = renderer.render(&mut world, &large).unwrap();
+    assert_eq!(renderer.frame().unwrap().pipeline_builds(), builds);
+    let fresh = Renderer::new(common::gpu().unwrap())
+        .render(&mut cornell(), &large)
+        .unwrap();
+    let e = rel_mse(&resized.hdr, &fresh.hdr);
+    assert!(e <= ROUNDING, "{e:.3e}");
+}

@@ -45,6 +45,11 @@ impl GbufferPass {
         })
     }
 
+    /// Pipelines built so far (one per feature set the pass has rendered with).
+    pub fn pipeline_builds(&self) -> u32 {
+        self.pipelines.builds()
+    }
+
     /// Selects the pipeline for `features`, building it now or, with `background`, on another
     /// thread while the pipeline in use renders (see [`PipelineCache::select`]).
     pub fn specialize(

@@ -62,6 +62,11 @@ impl<K: ShadingKind> GbufferShadingPass<K> {
         })
     }
 
+    /// Pipelines built so far (one per feature set the pass has rendered with).
+    pub fn pipeline_builds(&self) -> u32 {
+        self.pipelines.builds()
+    }
+
     /// Selects the pipeline for `features`, building it now or, with `background`, on another
     /// thread while the pipeline in use renders (see [`PipelineCache::select`]).
     pub fn specialize(
