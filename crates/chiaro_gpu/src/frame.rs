@@ -150,11 +150,39 @@ impl ScenePasses {
         })
     }
 
+    /// Selects each pass's pipeline for the frame's features (see
+    /// [`crate::specialization::PipelineCache::select`]); returns the feature set every pass
+    /// the frame runs now has, or `None` while they differ.
+    fn specialize(
+        &mut self,
+        device: &wgpu::Device,
+        input: &FrameInput,
+    ) -> Option<PipelineFeatures> {
+        let (features, background) = (input.features, input.background_compile);
+        self.gbuffer
+            .pipelines
+            .specialize(device, features, background);
+        self.direct
+            .pipelines
+            .specialize(device, features, background);
+        let mut ran = vec![
+            self.gbuffer.pipelines.features(),
+            self.direct.pipelines.features(),
+        ];
+        if input.settings.mode != RenderMode::Direct {
+            self.indirect
+                .pipelines
+                .specialize(device, features, background);
+            ran.push(self.indirect.pipelines.features());
+        }
+        ran.iter().all(|f| *f == ran[0]).then_some(ran[0]).flatten()
+    }
+
     /// Pipelines built so far by the three passes.
     pub fn pipeline_builds(&self) -> u32 {
-        self.gbuffer.pipeline_builds()
-            + self.direct.pipeline_builds()
-            + self.indirect.pipeline_builds()
+        self.gbuffer.pipelines.builds()
+            + self.direct.pipelines.builds()
+            + self.indirect.pipelines.builds()
     }
 }
 
@@ -180,6 +208,8 @@ pub struct Frame {
     resolve_parity: usize,
     tonemap_group: wgpu::BindGroup,
     timer: PassTimer,
+    /// See [`Frame::features`].
+    features: Option<PipelineFeatures>,
 }
 
 impl Frame {
@@ -219,6 +249,7 @@ impl Frame {
             resolve_parity: 0,
             tonemap_group: tonemap.bind_group(device, &targets, &tonemap_params),
             timer: PassTimer::new(device, &context.queue, use_timestamps(context), MAX_PASSES),
+            features: None,
             targets,
             scene_passes,
             composite,
@@ -243,10 +274,11 @@ impl Frame {
         self.scene_passes.pipeline_builds()
     }
 
-    /// The feature set the last frame's direct pass rendered with (while a new feature set
-    /// compiles in the background, the passes switch to it each when its pipeline is ready).
+    /// The feature set the last frame's scene passes all rendered with; `None` before the first
+    /// frame, and while a new feature set compiling in the background has reached some of the
+    /// passes and not yet the others.
     pub fn features(&self) -> Option<PipelineFeatures> {
-        self.scene_passes.direct.features()
+        self.features
     }
 
     /// The realtime mode's denoiser (its history and output, for tests and debug views).
@@ -377,17 +409,7 @@ impl Frame {
         input: &FrameInput,
     ) -> PassTimes {
         let (device, queue) = (&context.device, &context.queue);
-        let (features, background) = (input.features, input.background_compile);
-        let scene_passes = &mut self.scene_passes;
-        scene_passes
-            .gbuffer
-            .specialize(device, features, background);
-        scene_passes.direct.specialize(device, features, background);
-        if input.settings.mode != RenderMode::Direct {
-            scene_passes
-                .indirect
-                .specialize(device, features, background);
-        }
+        self.features = self.scene_passes.specialize(device, input);
         self.write_uniforms(queue, camera, input);
         let run = passes(&input.settings);
         let gpu = self.timer.gpu();

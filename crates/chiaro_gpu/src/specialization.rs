@@ -304,6 +304,65 @@ impl<P: Send + 'static> PipelineCache<P> {
     }
 }
 
+/// Builds a pass's pipeline from its module and layout for a feature set.
+pub type PipelineBuilder<P> =
+    fn(&wgpu::Device, &wgpu::ShaderModule, &wgpu::PipelineLayout, PipelineFeatures) -> P;
+
+/// A pass's shader module and pipeline layout, with one pipeline per feature set built from them
+/// on demand.
+pub struct SpecializedPipelines<P> {
+    module: wgpu::ShaderModule,
+    layout: wgpu::PipelineLayout,
+    build: PipelineBuilder<P>,
+    cache: PipelineCache<P>,
+}
+
+impl<P: Send + 'static> SpecializedPipelines<P> {
+    /// No pipeline yet; `build` makes one from `module` and `layout`.
+    pub fn new(
+        module: wgpu::ShaderModule,
+        layout: wgpu::PipelineLayout,
+        build: PipelineBuilder<P>,
+    ) -> Self {
+        Self {
+            module,
+            layout,
+            build,
+            cache: PipelineCache::default(),
+        }
+    }
+
+    /// Selects the pipeline for `features`, building it now or, with `background`, on another
+    /// thread while the pipeline in use renders (see [`PipelineCache::select`]).
+    pub fn specialize(
+        &mut self,
+        device: &wgpu::Device,
+        features: PipelineFeatures,
+        background: bool,
+    ) {
+        let (device, module, layout) = (device.clone(), self.module.clone(), self.layout.clone());
+        let build = self.build;
+        self.cache.select(features, background, move |features| {
+            build(&device, &module, &layout, features)
+        });
+    }
+
+    /// The pipeline in use (none before the first [`SpecializedPipelines::specialize`]).
+    pub fn pipeline(&self) -> Option<&P> {
+        self.cache.pipeline()
+    }
+
+    /// The feature set of the pipeline in use.
+    pub fn features(&self) -> Option<PipelineFeatures> {
+        self.cache.current()
+    }
+
+    /// Pipelines built so far (one per feature set rendered with).
+    pub fn builds(&self) -> u32 {
+        self.cache.builds()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

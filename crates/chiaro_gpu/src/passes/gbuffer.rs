@@ -7,20 +7,19 @@
 
 use crate::gpu_scene::GpuScene;
 use crate::shaders::ShaderError;
-use crate::specialization::{PipelineCache, PipelineFeatures};
+use crate::specialization::{PipelineFeatures, SpecializedPipelines};
 use crate::targets::{self, FrameTargets};
 
 /// The G-buffer pass, with one pipeline per feature set ([`crate::specialization`]).
 pub struct GbufferPass {
-    module: wgpu::ShaderModule,
-    pipeline_layout: wgpu::PipelineLayout,
-    pipelines: PipelineCache<wgpu::RenderPipeline>,
+    /// The pass's pipelines, one per feature set.
+    pub pipelines: SpecializedPipelines<wgpu::RenderPipeline>,
     camera_layout: wgpu::BindGroupLayout,
 }
 
 impl GbufferPass {
     /// The pass for the scene's bind-group layout; its pipelines are built by
-    /// [`GbufferPass::specialize`].
+    /// [`SpecializedPipelines::specialize`].
     pub fn new(device: &wgpu::Device, scene: &GpuScene) -> Result<Self, ShaderError> {
         let module = super::shader_module(device, "gbuffer.wgsl")?;
         let camera_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -38,32 +37,9 @@ impl GbufferPass {
             immediate_size: 0,
         });
         Ok(Self {
-            module,
-            pipeline_layout,
-            pipelines: PipelineCache::default(),
+            pipelines: SpecializedPipelines::new(module, pipeline_layout, build_pipeline),
             camera_layout,
         })
-    }
-
-    /// Pipelines built so far (one per feature set the pass has rendered with).
-    pub fn pipeline_builds(&self) -> u32 {
-        self.pipelines.builds()
-    }
-
-    /// Selects the pipeline for `features`, building it now or, with `background`, on another
-    /// thread while the pipeline in use renders (see [`PipelineCache::select`]).
-    pub fn specialize(
-        &mut self,
-        device: &wgpu::Device,
-        features: PipelineFeatures,
-        background: bool,
-    ) {
-        let (device, module) = (device.clone(), self.module.clone());
-        let layout = self.pipeline_layout.clone();
-        self.pipelines
-            .select(features, background, move |features| {
-                build_pipeline(&device, &module, &layout, features)
-            });
     }
 
     /// The bind group of the camera uniform.

@@ -9,7 +9,7 @@ use wgpu::TextureSampleType as S;
 
 use crate::gpu_scene::GpuScene;
 use crate::shaders::ShaderError;
-use crate::specialization::{PipelineCache, PipelineFeatures};
+use crate::specialization::{PipelineFeatures, SpecializedPipelines};
 use crate::targets::{FrameTargets, HDR_FORMAT, Target};
 
 /// Which G-buffer shading pass: its shader and the image it writes.
@@ -23,16 +23,15 @@ pub trait ShadingKind {
 /// A compute pass that shades the G-buffer's pixels (see [`ShadingKind`]), with one pipeline
 /// per feature set ([`crate::specialization`]).
 pub struct GbufferShadingPass<K> {
-    module: wgpu::ShaderModule,
-    pipeline_layout: wgpu::PipelineLayout,
-    pipelines: PipelineCache<wgpu::ComputePipeline>,
+    /// The pass's pipelines, one per feature set.
+    pub pipelines: SpecializedPipelines<wgpu::ComputePipeline>,
     layout: wgpu::BindGroupLayout,
     kind: PhantomData<K>,
 }
 
 impl<K: ShadingKind> GbufferShadingPass<K> {
     /// The pass for the scene's bind-group layout; its pipelines are built by
-    /// [`GbufferShadingPass::specialize`].
+    /// [`SpecializedPipelines::specialize`].
     pub fn new(device: &wgpu::Device, scene: &GpuScene) -> Result<Self, ShaderError> {
         let name = K::NAME;
         use super::{compute_entry as e, texture, uniform};
@@ -54,48 +53,10 @@ impl<K: ShadingKind> GbufferShadingPass<K> {
             immediate_size: 0,
         });
         Ok(Self {
-            module,
-            pipeline_layout,
-            pipelines: PipelineCache::default(),
+            pipelines: SpecializedPipelines::new(module, pipeline_layout, build_pipeline::<K>),
             layout,
             kind: PhantomData,
         })
-    }
-
-    /// Pipelines built so far (one per feature set the pass has rendered with).
-    pub fn pipeline_builds(&self) -> u32 {
-        self.pipelines.builds()
-    }
-
-    /// Selects the pipeline for `features`, building it now or, with `background`, on another
-    /// thread while the pipeline in use renders (see [`PipelineCache::select`]).
-    pub fn specialize(
-        &mut self,
-        device: &wgpu::Device,
-        features: PipelineFeatures,
-        background: bool,
-    ) {
-        let (device, module) = (device.clone(), self.module.clone());
-        let layout = self.pipeline_layout.clone();
-        self.pipelines
-            .select(features, background, move |features| {
-                device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some(&format!("{} pipeline", K::NAME)),
-                    layout: Some(&layout),
-                    module: &module,
-                    entry_point: Some("main"),
-                    compilation_options: wgpu::PipelineCompilationOptions {
-                        constants: &features.constants(),
-                        ..Default::default()
-                    },
-                    cache: None,
-                })
-            });
-    }
-
-    /// The feature set of the pipeline in use.
-    pub fn features(&self) -> Option<PipelineFeatures> {
-        self.pipelines.current()
     }
 
     /// The pass's bind group over `targets`, the camera and the parameters.
@@ -154,4 +115,24 @@ impl<K: ShadingKind> GbufferShadingPass<K> {
         let (x, y) = super::workgroups(targets.width, targets.height);
         pass.dispatch_workgroups(x, y, 1);
     }
+}
+
+/// The pass's compute pipeline compiled for `features`.
+fn build_pipeline<K: ShadingKind>(
+    device: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    layout: &wgpu::PipelineLayout,
+    features: PipelineFeatures,
+) -> wgpu::ComputePipeline {
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(&format!("{} pipeline", K::NAME)),
+        layout: Some(layout),
+        module,
+        entry_point: Some("main"),
+        compilation_options: wgpu::PipelineCompilationOptions {
+            constants: &features.constants(),
+            ..Default::default()
+        },
+        cache: None,
+    })
 }
