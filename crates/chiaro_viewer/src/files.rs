@@ -1,0 +1,110 @@
+//! Files the viewer reads and writes: screenshots (PNG of the tonemapped frame, EXR of its
+//! linear HDR) and files dropped on the window (a glTF scene or an environment image).
+
+use std::path::{Path, PathBuf};
+
+use bevy_ecs::world::World;
+use chiaro_gpu::{RenderSettings, Renderer};
+use chiaro_scene::{Environment, load_scene};
+
+/// Saves the renderer's last frame to `path`: `.png` writes the tonemapped 8-bit image,
+/// `.exr` the linear HDR one. Returns the image size.
+pub fn save_screenshot(renderer: &Renderer, path: &Path) -> Result<(u32, u32), String> {
+    let frame = renderer
+        .frame()
+        .ok_or_else(|| format!("{}: nothing was rendered yet", path.display()))?;
+    let (width, height) = (frame.targets.width, frame.targets.height);
+    let settings = RenderSettings {
+        width,
+        height,
+        ..RenderSettings::default()
+    };
+    let image = renderer
+        .read(&settings)
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    match path.extension().and_then(|e| e.to_str()) {
+        Some("exr") => chiaro_reference::write_exr(path, width, height, &image.hdr)
+            .map_err(|e| e.to_string())?,
+        Some("png") => image::RgbaImage::from_raw(width, height, image.ldr)
+            .ok_or_else(|| format!("{}: image size mismatch", path.display()))?
+            .save_with_format(path, image::ImageFormat::Png)
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))?,
+        _ => return Err(format!("{}: must end in .png or .exr", path.display())),
+    }
+    Ok((width, height))
+}
+
+/// The first `chiaro-NNNN` in `folder` with neither a .png nor an .exr of that name.
+pub fn next_screenshot_stem(folder: &Path) -> PathBuf {
+    (0..10_000)
+        .map(|n| folder.join(format!("chiaro-{n:04}")))
+        .find(|stem| !stem.with_extension("png").exists() && !stem.with_extension("exr").exists())
+        .unwrap_or_else(|| folder.join("chiaro-last"))
+}
+
+/// What a dropped file became.
+pub enum Dropped {
+    /// A new scene, loaded into its own World.
+    Scene(World),
+    /// A new environment for the current scene.
+    Environment(Environment),
+}
+
+/// Loads a dropped file: `.glb`/`.gltf` as a new scene (a World of its own, so the current
+/// one is untouched on failure), `.hdr`/`.exr` as the environment (strength 1). The error
+/// names the file and the fault.
+pub fn load_dropped(path: &Path) -> Result<Dropped, String> {
+    let extension = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match extension.as_deref() {
+        Some("glb" | "gltf") => {
+            let spec = path
+                .to_str()
+                .ok_or_else(|| format!("{}: the path is not UTF-8", path.display()))?;
+            let mut world = World::new();
+            let spawned = load_scene(&mut world, spec)
+                .map_err(|e| format!("cannot load {}: {e}", path.display()))?;
+            for repair in &spawned.repairs {
+                log::warn!("{}: {repair}", path.display());
+            }
+            Ok(Dropped::Scene(world))
+        }
+        Some("hdr" | "exr") => {
+            let (environment, repairs) = Environment::from_file(path, 1.0)
+                .map_err(|e| format!("cannot load {}: {e}", path.display()))?;
+            for repair in repairs {
+                log::warn!("{}: {repair}", path.display());
+            }
+            Ok(Dropped::Environment(environment))
+        }
+        _ => Err(format!(
+            "{}: only .glb, .gltf, .hdr and .exr files can be dropped",
+            path.display()
+        )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn broken_and_unknown_files_are_errors_naming_the_file() {
+        let dir = std::env::temp_dir().join(format!("chiaro-viewer-files-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let broken = dir.join("broken.glb");
+        std::fs::write(&broken, b"glTF\x02\x00garbage").unwrap();
+        for path in [broken, dir.join("missing.hdr"), dir.join("notes.txt")] {
+            match load_dropped(&path) {
+                Ok(_) => panic!("{} loaded", path.display()),
+                Err(e) => assert!(e.contains(&path.display().to_string()), "{e}"),
+            }
+        }
+        assert_eq!(next_screenshot_stem(&dir), dir.join("chiaro-0000"));
+        std::fs::write(dir.join("chiaro-0000.exr"), b"").unwrap();
+        assert_eq!(next_screenshot_stem(&dir), dir.join("chiaro-0001"));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
