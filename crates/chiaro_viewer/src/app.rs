@@ -147,7 +147,7 @@ impl App {
                 let settings = self.world.resource::<FrameSettings>();
                 world.insert_resource(*settings);
                 self.camera = scene_camera(&mut world);
-                self.world = world;
+                self.world = *world;
                 self.message = None;
                 log::info!("loaded {}", path.display());
             }

@@ -45,9 +45,20 @@ pub fn next_screenshot_stem(folder: &Path) -> PathBuf {
 /// What a dropped file became.
 pub enum Dropped {
     /// A new scene, loaded into its own World.
-    Scene(World),
+    Scene(Box<World>),
     /// A new environment for the current scene.
     Environment(Environment),
+}
+
+/// "cannot load PATH: ERROR", the path left out when the error names it already.
+fn naming(path: &Path, error: impl std::fmt::Display) -> String {
+    let error = error.to_string();
+    let name = path.display().to_string();
+    if error.contains(&name) {
+        format!("cannot load: {error}")
+    } else {
+        format!("cannot load {name}: {error}")
+    }
 }
 
 /// Loads a dropped file: `.glb`/`.gltf` as a new scene (a World of its own, so the current
@@ -64,16 +75,15 @@ pub fn load_dropped(path: &Path) -> Result<Dropped, String> {
                 .to_str()
                 .ok_or_else(|| format!("{}: the path is not UTF-8", path.display()))?;
             let mut world = World::new();
-            let spawned = load_scene(&mut world, spec)
-                .map_err(|e| format!("cannot load {}: {e}", path.display()))?;
+            let spawned = load_scene(&mut world, spec).map_err(|e| naming(path, e))?;
             for repair in &spawned.repairs {
                 log::warn!("{}: {repair}", path.display());
             }
-            Ok(Dropped::Scene(world))
+            Ok(Dropped::Scene(Box::new(world)))
         }
         Some("hdr" | "exr") => {
-            let (environment, repairs) = Environment::from_file(path, 1.0)
-                .map_err(|e| format!("cannot load {}: {e}", path.display()))?;
+            let (environment, repairs) =
+                Environment::from_file(path, 1.0).map_err(|e| naming(path, e))?;
             for repair in repairs {
                 log::warn!("{}: {repair}", path.display());
             }
