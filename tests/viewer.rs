@@ -280,3 +280,70 @@ fn a_bad_script_is_refused_naming_the_line() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Dropping a .glb and then an .hdr replaces the scene and its environment: the window's frame
+/// (nothing rendered before the drops) is the headless render of that file under that
+/// environment at the same size and frame count: relMSE (linear HDR, epsilon 0.01) under 1e-3;
+/// measured 0.0 on lavapipe.
+#[test]
+fn dropped_scene_and_environment_render_like_the_cli() {
+    let Some(x) = xvfb() else { return };
+    let scenes = common::shared_dir("scenes");
+    let (glb, hdr) = (
+        scenes.join("SimpleInstancing.glb"),
+        scenes.join("qwantani_afternoon_puresky_1k.hdr"),
+    );
+    let dir = temp_dir("dropped");
+    let shot = dir.join("dropped.exr");
+    let script = dir.join("script.txt");
+    std::fs::write(
+        &script,
+        format!(
+            "panel off\ndrop {}\ndrop {}\nframes 4\nscreenshot {}\n",
+            glb.display(),
+            hdr.display(),
+            shot.display()
+        ),
+    )
+    .unwrap();
+    let size = ["--size", "64x48"];
+    let Some(_) = view(
+        &x,
+        &[
+            "builtin:cornell",
+            size[0],
+            size[1],
+            "--script",
+            script.to_str().unwrap(),
+        ],
+    ) else {
+        return;
+    };
+    let headless = dir.join("headless.exr");
+    let render = chiaro(&[
+        "render",
+        glb.to_str().unwrap(),
+        "--env",
+        hdr.to_str().unwrap(),
+        size[0],
+        size[1],
+        "--frames",
+        "4",
+        "--out",
+        headless.to_str().unwrap(),
+    ]);
+    assert!(
+        render.status.success(),
+        "{}",
+        String::from_utf8_lossy(&render.stderr)
+    );
+    let (w, h, window) = read_exr(&shot).unwrap();
+    assert_eq!((w, h), (64, 48));
+    let (_, _, reference) = read_exr(&headless).unwrap();
+    let error = rel_mse(&window, &reference, 0.01);
+    eprintln!("dropped scene against headless: relMSE {error:.3e}");
+    assert!(error < 1e-3, "relMSE {error}");
+    let mean = window.iter().map(|p| p.element_sum()).sum::<f32>() / window.len() as f32;
+    assert!(mean > 0.05, "the dropped scene is dark: mean {mean}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
