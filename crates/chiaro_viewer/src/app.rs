@@ -13,7 +13,7 @@ use chiaro_gpu::timing::PassTimes;
 use chiaro_gpu::{FrameSettings, RenderSettings};
 use chiaro_scene::transform::propagate_transforms;
 use chiaro_scene::{ActiveCamera, GlobalTransform, SceneInfo, Transform};
-use glam::{Affine3A, Vec2};
+use glam::{Affine3A, Vec2, Vec3};
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
@@ -24,8 +24,10 @@ use winit::window::{Window, WindowId};
 use crate::camera::{MoveKeys, WalkCamera, speed_for_extent};
 use crate::display::Display;
 use crate::files::{Dropped, load_dropped, next_screenshot_stem, save_screenshot};
+use crate::inspector;
 use crate::panel::{self, PanelInfo};
 use crate::script::{Command, SCRIPT_DT};
+use crate::selection::pick;
 use crate::{ViewerError, ViewerOptions};
 
 /// Frames a scripted `resize` waits for the window to take the size before failing.
@@ -61,6 +63,11 @@ pub struct App {
     looking: bool,
     cursor: Option<Vec2>,
     look: Vec2,
+    /// The frame's area in the window, physical pixels: (top-left corner, size).
+    frame_rect: Option<(Vec2, Vec2)>,
+    /// A left click on the frame, in the frame's pixels, to pick at the next redraw.
+    click: Option<Vec2>,
+    selected: Option<Entity>,
     panel: bool,
     message: Option<String>,
     times: PassTimes,
@@ -119,6 +126,9 @@ impl App {
             looking: false,
             cursor: None,
             look: Vec2::ZERO,
+            frame_rect: None,
+            click: None,
+            selected: None,
             panel: true,
             message: None,
             times: PassTimes::default(),
@@ -148,6 +158,7 @@ impl App {
                 world.insert_resource(*settings);
                 self.camera = scene_camera(&mut world);
                 self.world = *world;
+                self.selected = None;
                 self.message = None;
                 log::info!("loaded {}", path.display());
             }
@@ -205,6 +216,7 @@ impl App {
                 Command::Frames(n) => (script.frames_left, script.held) = (n, MoveKeys::default()),
                 Command::Keys(keys, n) => (script.frames_left, script.held) = (n, keys),
                 Command::Look(dx, dy) => self.look += Vec2::new(dx, dy),
+                Command::Click(x, y) => self.click = Some(Vec2::new(x, y)),
                 Command::Resize(w, h) => {
                     script.waiting = Some((w, h, 0));
                     if let Some(window) = &self.window {
@@ -278,6 +290,16 @@ impl App {
             return;
         };
 
+        if let Some(at) = self.click.take()
+            && let Some(frame) = display.renderer.frame()
+        {
+            let (w, h) = (frame.targets.width, frame.targets.height);
+            self.selected = pick(&self.world, at.x, at.y, w, h);
+            if let Some(entity) = self.selected {
+                log::info!("selected {entity}");
+            }
+        }
+        let eye = self.camera.as_ref().map_or(Vec3::ZERO, |c| c.1.position);
         let settings = *self.world.resource::<FrameSettings>();
         let mut edited = settings;
         let texture = display.frame_texture();
@@ -297,6 +319,8 @@ impl App {
         let show_panel = self.panel;
         let mut dismissed = false;
         let mut area = (1, 1);
+        let mut frame_rect = None;
+        let (world, selected) = (&mut self.world, &mut self.selected);
         let input = state.take_egui_input(&window);
         let output = self.egui.run_ui(input, |ui| {
             if show_panel {
@@ -305,7 +329,13 @@ impl App {
                     .default_size(270.0)
                     .show(ui, |ui| {
                         egui::ScrollArea::vertical().show(ui, |ui| {
-                            dismissed = panel::show(ui, &mut edited, &info);
+                            dismissed = panel::message(ui, &info);
+                            let section =
+                                |name| egui::CollapsingHeader::new(name).default_open(true);
+                            section("frame").show(ui, |ui| panel::settings(ui, &mut edited));
+                            section("scene")
+                                .show(ui, |ui| inspector::show(ui, world, selected, eye));
+                            section("time").show(ui, |ui| panel::times(ui, &info));
                         });
                     });
             } else if let Some(message) = info.message {
@@ -320,6 +350,7 @@ impl App {
                 let max = (rect.max.to_vec2() * ppp).round();
                 let size = (max - min).max(egui::Vec2::splat(1.0));
                 area = (size.x as u32, size.y as u32);
+                frame_rect = Some((Vec2::new(min.x, min.y), Vec2::new(size.x, size.y)));
                 let aligned = egui::Rect::from_min_size((min / ppp).to_pos2(), size / ppp);
                 if let Some(texture) = texture {
                     let uv = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
@@ -328,6 +359,7 @@ impl App {
                 }
             });
         });
+        self.frame_rect = frame_rect;
         if dismissed {
             self.message = None;
         }
@@ -365,6 +397,14 @@ impl App {
             return;
         }
         self.frame_ms = now.elapsed().as_secs_f64() * 1e3;
+    }
+
+    /// Whether the cursor is over the frame (not over the panel).
+    fn over_frame(&self) -> bool {
+        match (self.cursor, self.frame_rect) {
+            (Some(c), Some((min, size))) => c.cmpge(min).all() && c.cmplt(min + size).all(),
+            _ => false,
+        }
     }
 
     /// Keys the viewer handles itself (before egui, which takes Tab for focus).
@@ -435,7 +475,9 @@ impl ApplicationHandler for App {
         let (Some(window), Some(state)) = (self.window.clone(), self.egui_state.as_mut()) else {
             return;
         };
-        let consumed = state.on_window_event(&window, &event).consumed;
+        // The viewer's own input is decided by where the cursor is (over the frame or the
+        // panel), not by egui's verdict, which counts the frame's area as egui's.
+        let _ = state.on_window_event(&window, &event);
         let egui_wants_keys = self.egui.egui_wants_keyboard_input();
         match event {
             WindowEvent::CloseRequested => event_loop.exit(),
@@ -456,7 +498,17 @@ impl ApplicationHandler for App {
                 state: button_state,
                 button: MouseButton::Right,
                 ..
-            } => self.looking = button_state == ElementState::Pressed && !consumed,
+            } => self.looking = button_state == ElementState::Pressed && self.over_frame(),
+            WindowEvent::MouseInput {
+                state: ElementState::Pressed,
+                button: MouseButton::Left,
+                ..
+            } if self.over_frame() => {
+                self.click = self
+                    .cursor
+                    .zip(self.frame_rect)
+                    .map(|(cursor, (min, _))| cursor - min);
+            }
             WindowEvent::CursorMoved { position, .. } => {
                 let position = Vec2::new(position.x as f32, position.y as f32);
                 if let (true, Some(last)) = (self.looking, self.cursor) {
@@ -464,7 +516,7 @@ impl ApplicationHandler for App {
                 }
                 self.cursor = Some(position);
             }
-            WindowEvent::MouseWheel { delta, .. } if !consumed => {
+            WindowEvent::MouseWheel { delta, .. } if self.over_frame() => {
                 let steps = match delta {
                     MouseScrollDelta::LineDelta(_, y) => y,
                     MouseScrollDelta::PixelDelta(p) => p.y as f32 / 50.0,

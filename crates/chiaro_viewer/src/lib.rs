@@ -35,8 +35,10 @@ mod app;
 pub mod camera;
 mod display;
 pub mod files;
+mod inspector;
 mod panel;
 pub mod script;
+pub mod selection;
 
 use std::path::PathBuf;
 

@@ -23,16 +23,19 @@ pub struct PanelInfo<'a> {
     pub message: Option<&'a str>,
 }
 
-/// Shows the settings editors in `ui`; edits `settings` in place. Returns whether the user
-/// dismissed the message.
-pub fn show(ui: &mut egui::Ui, settings: &mut FrameSettings, info: &PanelInfo) -> bool {
-    let mut dismissed = false;
-    if let Some(message) = info.message {
-        ui.colored_label(egui::Color32::from_rgb(255, 110, 90), message);
-        dismissed = ui.button("dismiss").clicked();
-        ui.separator();
-    }
-    ui.heading("frame");
+/// Shows the last error, if any; returns whether the user dismissed it.
+pub fn message(ui: &mut egui::Ui, info: &PanelInfo) -> bool {
+    let Some(message) = info.message else {
+        return false;
+    };
+    ui.colored_label(egui::Color32::from_rgb(255, 110, 90), message);
+    let dismissed = ui.button("dismiss").clicked();
+    ui.separator();
+    dismissed
+}
+
+/// Shows the frame settings' editors; edits `settings` in place.
+pub fn settings(ui: &mut egui::Ui, settings: &mut FrameSettings) {
     egui::ComboBox::from_label("mode")
         .selected_text(settings.mode.name())
         .show_ui(ui, |ui| {
@@ -82,8 +85,10 @@ pub fn show(ui: &mut egui::Ui, settings: &mut FrameSettings, info: &PanelInfo) -
                 ui.selectable_value(&mut settings.tonemapper, t, t.name());
             }
         });
-    ui.separator();
-    ui.heading("time");
+}
+
+/// Shows the frame's size and times, the camera's speed, the keys and the adapter.
+pub fn times(ui: &mut egui::Ui, info: &PanelInfo) {
     ui.label(format!(
         "{}x{}: frame {:.1} ms ({:.1} fps)",
         info.size.0,
@@ -97,17 +102,12 @@ pub fn show(ui: &mut egui::Ui, settings: &mut FrameSettings, info: &PanelInfo) -
         "wall clock"
     };
     ui.label(format!("passes {:.2} ms ({clock})", info.times.total_ms()));
-    egui::Grid::new("pass times").striped(true).show(ui, |ui| {
-        for (name, ms) in &info.times.passes {
-            ui.label(*name);
-            ui.label(format!("{ms:.2} ms"));
-            ui.end_row();
-        }
-    });
+    for (name, ms) in &info.times.passes {
+        ui.monospace(format!("{name:<10} {ms:9.2} ms"));
+    }
     ui.separator();
     ui.label(format!("speed {:.3} units/s", info.speed));
     ui.small("WASD move, Q/E down/up, right drag look, wheel speed, shift fast");
     ui.small("Tab panel, F12 screenshot, drop .glb/.gltf/.hdr/.exr");
     ui.small(info.adapter);
-    dismissed
 }

@@ -7,6 +7,7 @@
 //! frames 8             # render 8 frames
 //! key W 10             # hold W for 10 frames (keys: W A S D Q E, SHIFT+W etc. for fast)
 //! look 40 -10          # turn the view as a mouse motion of (40, -10) pixels would
+//! click 48 30          # left click at pixel (48, 30) of the frame: selects what it shows
 //! resize 320 240       # resize the window and wait until it has that size
 //! drop scene.glb       # load a file as if dropped on the window (.glb, .gltf, .hdr, .exr)
 //! screenshot out.png   # save the last frame: .png (8-bit, tonemapped) or .exr (linear HDR)
@@ -33,6 +34,9 @@ pub enum Command {
     Keys(MoveKeys, u32),
     /// Turn the view as a mouse motion of this many pixels (x right, y down) would.
     Look(f32, f32),
+    /// Left click at this point of the frame (pixels from its top-left corner): selects the
+    /// instance seen there.
+    Click(f32, f32),
     /// Resize the window's inner area to this many pixels and wait until it has that size.
     Resize(u32, u32),
     /// Load a file as if it were dropped on the window.
@@ -120,6 +124,7 @@ fn parse_line(line: &str, base: &Path) -> Result<Option<Command>, String> {
         ("frames", [n]) => Command::Frames(count(n)?),
         ("key", [k, n]) => Command::Keys(keys(k)?, count(n)?),
         ("look", [dx, dy]) => Command::Look(float(dx)?, float(dy)?),
+        ("click", [x, y]) => Command::Click(float(x)?, float(y)?),
         ("resize", [w, h]) => Command::Resize(side(w)?, side(h)?),
         ("drop", _) => Command::Drop(path(&args)?),
         ("screenshot", _) => {
@@ -131,12 +136,12 @@ fn parse_line(line: &str, base: &Path) -> Result<Option<Command>, String> {
         }
         ("panel", ["on"]) => Command::Panel(true),
         ("panel", ["off"]) => Command::Panel(false),
-        ("frames" | "key" | "look" | "resize" | "panel", _) => {
+        ("frames" | "key" | "look" | "click" | "resize" | "panel", _) => {
             return Err(format!("wrong arguments for '{verb}'"));
         }
         _ => {
             return Err(format!(
-                "unknown command '{verb}' (frames, key, look, resize, drop, screenshot, panel)"
+                "unknown command '{verb}' (frames, key, look, click, resize, drop, screenshot, panel)"
             ));
         }
     };
@@ -170,7 +175,7 @@ mod tests {
 
     #[test]
     fn parses_every_command() {
-        let text = "# a walk\n\npanel off\nframes 8\nkey shift+W 10 # fast\nlook 4 -2.5\n\
+        let text = "# a walk\n\npanel off\nframes 8\nkey shift+W 10 # fast\nlook 4 -2.5\nclick 3 4.5\n\
                     resize 320 240\ndrop scenes/box.glb\nscreenshot shot 1.png\npanel on\n";
         let commands = parse(text, Path::new("/tmp")).unwrap();
         let fast_w = MoveKeys {
@@ -185,6 +190,7 @@ mod tests {
                 Command::Frames(8),
                 Command::Keys(fast_w, 10),
                 Command::Look(4.0, -2.5),
+                Command::Click(3.0, 4.5),
                 Command::Resize(320, 240),
                 Command::Drop(PathBuf::from("/tmp/scenes/box.glb")),
                 Command::Screenshot(PathBuf::from("/tmp/shot 1.png")),
@@ -208,6 +214,7 @@ mod tests {
             ("key W", 1, "wrong arguments"),
             ("look 1 nan", 1, "not a finite number"),
             ("resize 0 10", 1, "not a window side"),
+            ("click 3", 1, "wrong arguments for 'click'"),
             ("screenshot out.jpg", 1, "must end in .png or .exr"),
             ("drop", 1, "needs a path"),
             ("panel maybe", 1, "wrong arguments for 'panel'"),
