@@ -9,7 +9,10 @@
 //!
 //! Keys: W/A/S/D move, Q/E down and up, the right mouse button held turns the view, the wheel
 //! changes the speed, shift moves faster; Tab shows or hides the panel; F12 saves
-//! `chiaro-NNNN.png` and `chiaro-NNNN.exr` in the working folder.
+//! `chiaro-NNNN.png` and `chiaro-NNNN.exr` in the working folder. A left click on the frame
+//! selects the instance seen there ([`selection`]); the panel then edits its `Transform` and its
+//! material (in the `Materials` resource), or a light's colour and intensity, and adds or removes
+//! point lights.
 //!
 //! A [`script`] replays input and exits, for tests and reproducible walkthroughs:
 //!
