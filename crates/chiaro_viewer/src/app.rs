@@ -22,6 +22,7 @@ use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{Window, WindowId};
 
 use crate::camera::{MoveKeys, WalkCamera, speed_for_extent};
+use crate::debug_view::DebugView;
 use crate::display::Display;
 use crate::files::{Dropped, load_dropped, next_screenshot_stem, save_screenshot};
 use crate::inspector;
@@ -68,6 +69,9 @@ pub struct App {
     /// A left click on the frame, in the frame's pixels, to pick at the next redraw.
     click: Option<Vec2>,
     selected: Option<Entity>,
+    view: DebugView,
+    /// The scene's bounding-box diagonal.
+    extent: f32,
     panel: bool,
     message: Option<String>,
     times: PassTimes,
@@ -78,8 +82,14 @@ pub struct App {
     pub fatal: Option<ViewerError>,
 }
 
-/// The camera entity and a walkthrough camera at its world placement.
-fn scene_camera(world: &mut World) -> Option<(Entity, WalkCamera)> {
+/// The diagonal of the scene's bounds.
+fn scene_extent(world: &mut World) -> f32 {
+    SceneInfo::gather(world).bounds.size().length()
+}
+
+/// The camera entity and a walkthrough camera at its world placement, with a speed for a
+/// scene of diagonal `extent`.
+fn scene_camera(world: &mut World, extent: f32) -> Option<(Entity, WalkCamera)> {
     if let Err(e) = world.run_system_once(propagate_transforms) {
         log::warn!("cannot place the camera: {e}");
     }
@@ -91,8 +101,7 @@ fn scene_camera(world: &mut World) -> Option<(Entity, WalkCamera)> {
         rotation,
         ..Transform::IDENTITY
     };
-    let bounds = SceneInfo::gather(world).bounds;
-    let speed = speed_for_extent(bounds.size().length());
+    let speed = speed_for_extent(extent);
     Some((entity, WalkCamera::from_transform(&placement, speed)))
 }
 
@@ -106,7 +115,8 @@ impl App {
         if !world.contains_resource::<FrameSettings>() {
             world.insert_resource(FrameSettings::default());
         }
-        let camera = scene_camera(&mut world);
+        let extent = scene_extent(&mut world);
+        let camera = scene_camera(&mut world, extent);
         let script = options.script.clone().map(|commands| Script {
             commands: commands.into(),
             frames_left: 0,
@@ -129,6 +139,8 @@ impl App {
             frame_rect: None,
             click: None,
             selected: None,
+            view: DebugView::Frame,
+            extent,
             panel: true,
             message: None,
             times: PassTimes::default(),
@@ -156,7 +168,8 @@ impl App {
             Ok(Dropped::Scene(mut world)) => {
                 let settings = self.world.resource::<FrameSettings>();
                 world.insert_resource(*settings);
-                self.camera = scene_camera(&mut world);
+                self.extent = scene_extent(&mut world);
+                self.camera = scene_camera(&mut world, self.extent);
                 self.world = *world;
                 self.selected = None;
                 self.message = None;
@@ -173,7 +186,7 @@ impl App {
 
     fn screenshot(&self, path: &Path) -> Result<(), String> {
         let display = self.display.as_ref().ok_or("no window")?;
-        let (w, h) = save_screenshot(&display.renderer, path)?;
+        let (w, h) = save_screenshot(&display.renderer, display.debug_image(), path)?;
         println!("wrote {} ({w}x{h})", path.display());
         Ok(())
     }
@@ -224,6 +237,7 @@ impl App {
                     }
                 }
                 Command::Panel(on) => self.panel = on,
+                Command::View(view) => self.view = view,
                 Command::Drop(path) => self.drop_file(&path),
                 Command::Screenshot(path) => {
                     if let Err(e) = self.screenshot(&path) {
@@ -320,7 +334,7 @@ impl App {
         let mut dismissed = false;
         let mut area = (1, 1);
         let mut frame_rect = None;
-        let (world, selected) = (&mut self.world, &mut self.selected);
+        let (world, selected, view) = (&mut self.world, &mut self.selected, &mut self.view);
         let input = state.take_egui_input(&window);
         let output = self.egui.run_ui(input, |ui| {
             if show_panel {
@@ -332,7 +346,7 @@ impl App {
                             dismissed = panel::message(ui, &info);
                             let section =
                                 |name| egui::CollapsingHeader::new(name).default_open(true);
-                            section("frame").show(ui, |ui| panel::settings(ui, &mut edited));
+                            section("frame").show(ui, |ui| panel::settings(ui, &mut edited, view));
                             section("scene")
                                 .show(ui, |ui| inspector::show(ui, world, selected, eye));
                             section("time").show(ui, |ui| panel::times(ui, &info));
@@ -389,7 +403,12 @@ impl App {
                 }
             }
         }
-        display.update_frame_texture();
+        let depth_scale = 0.5 * self.extent;
+        if let Err(e) = display.update_frame_texture(self.view, eye, depth_scale) {
+            eprintln!("chiaro view: {e}");
+            self.message = Some(e.to_string());
+            self.view = DebugView::Frame;
+        }
         state.handle_platform_output(&window, output.platform_output);
         let jobs = self.egui.tessellate(output.shapes, output.pixels_per_point);
         if let Err(e) = display.present(&jobs, output.textures_delta, output.pixels_per_point) {

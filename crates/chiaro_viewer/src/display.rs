@@ -6,10 +6,12 @@ use std::sync::Arc;
 
 use chiaro_gpu::context::missing_capabilities;
 use chiaro_gpu::{GpuContext, Renderer};
+use glam::Vec3;
 use winit::event_loop::OwnedDisplayHandle;
 use winit::window::Window;
 
 use crate::ViewerError;
+use crate::debug_view::{DebugPass, DebugView};
 
 /// The surface, the renderer and the painter of one window.
 pub struct Display {
@@ -19,6 +21,9 @@ pub struct Display {
     pub renderer: Renderer,
     painter: egui_wgpu::Renderer,
     frame_texture: Option<egui::TextureId>,
+    debug: Option<DebugPass>,
+    /// Whether the window shows the debug pass's image (not the frame).
+    showing_debug: bool,
 }
 
 /// Preference of an adapter kind: lower is better.
@@ -103,6 +108,8 @@ impl Display {
             renderer: Renderer::new(context),
             painter,
             frame_texture: None,
+            debug: None,
+            showing_debug: false,
         })
     }
 
@@ -122,28 +129,54 @@ impl Display {
         self.frame_texture
     }
 
-    /// Points the frame's egui texture at the renderer's current 8-bit image (it is remade
-    /// when the frame is resized or the scene replaced).
-    pub fn update_frame_texture(&mut self) {
+    /// Points the frame's egui texture at what the window shows: the renderer's current 8-bit
+    /// image (remade when the frame is resized or the scene replaced), or `view` of it seen
+    /// from `eye` (`depth_scale`: the distance the depth view shows as mid grey).
+    pub fn update_frame_texture(
+        &mut self,
+        view: DebugView,
+        eye: Vec3,
+        depth_scale: f32,
+    ) -> Result<(), ViewerError> {
         let Some(frame) = self.renderer.frame() else {
-            return;
+            return Ok(());
         };
-        let device = &self.renderer.context.device;
-        let view = &frame.targets.ldr.view;
+        let (device, queue) = (&self.renderer.context.device, &self.renderer.context.queue);
+        let shown = if view == DebugView::Frame {
+            &frame.targets.ldr.view
+        } else {
+            if self.debug.is_none() {
+                let pass = DebugPass::new(device).map_err(|e| ViewerError::Gpu(e.to_string()))?;
+                self.debug = Some(pass);
+            }
+            let pass = self.debug.as_mut().expect("made above");
+            pass.run(device, queue, &frame.targets, view, eye, depth_scale)
+                .1
+        };
+        self.showing_debug = view != DebugView::Frame;
         match self.frame_texture {
             Some(id) => self.painter.update_egui_texture_from_wgpu_texture(
                 device,
-                view,
+                shown,
                 wgpu::FilterMode::Nearest,
                 id,
             ),
             None => {
                 let id =
                     self.painter
-                        .register_native_texture(device, view, wgpu::FilterMode::Nearest);
+                        .register_native_texture(device, shown, wgpu::FilterMode::Nearest);
                 self.frame_texture = Some(id);
             }
         }
+        Ok(())
+    }
+
+    /// The debug view's image when the window shows one.
+    pub fn debug_image(&self) -> Option<&wgpu::Texture> {
+        self.debug
+            .as_ref()
+            .filter(|_| self.showing_debug)
+            .and_then(DebugPass::image)
     }
 
     /// Applies egui's texture changes, paints its output (the panel and the frame) to the

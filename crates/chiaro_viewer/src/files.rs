@@ -7,9 +7,14 @@ use bevy_ecs::world::World;
 use chiaro_gpu::{RenderSettings, Renderer};
 use chiaro_scene::{Environment, load_scene};
 
-/// Saves the renderer's last frame to `path`: `.png` writes the tonemapped 8-bit image,
-/// `.exr` the linear HDR one. Returns the image size.
-pub fn save_screenshot(renderer: &Renderer, path: &Path) -> Result<(u32, u32), String> {
+/// Saves the renderer's last frame to `path`: `.png` writes the 8-bit image the window shows
+/// (`shown`, a debug view, or else the tonemapped frame), `.exr` the frame's linear HDR image.
+/// Returns the image size.
+pub fn save_screenshot(
+    renderer: &Renderer,
+    shown: Option<&wgpu::Texture>,
+    path: &Path,
+) -> Result<(u32, u32), String> {
     let frame = renderer
         .frame()
         .ok_or_else(|| format!("{}: nothing was rendered yet", path.display()))?;
@@ -19,9 +24,14 @@ pub fn save_screenshot(renderer: &Renderer, path: &Path) -> Result<(u32, u32), S
         height,
         ..RenderSettings::default()
     };
-    let image = renderer
+    let mut image = renderer
         .read(&settings)
         .map_err(|e| format!("{}: {e}", path.display()))?;
+    if let Some(texture) = shown {
+        let context = &renderer.context;
+        image.ldr = chiaro_gpu::readback::read_texture(&context.device, &context.queue, texture, 4)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+    }
     match path.extension().and_then(|e| e.to_str()) {
         Some("exr") => chiaro_reference::write_exr(path, width, height, &image.hdr)
             .map_err(|e| e.to_string())?,

@@ -36,6 +36,7 @@
 
 mod app;
 pub mod camera;
+pub mod debug_view;
 mod display;
 pub mod files;
 mod inspector;

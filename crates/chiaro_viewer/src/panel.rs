@@ -7,6 +7,8 @@ use chiaro_gpu::timing::PassTimes;
 use chiaro_gpu::{FrameSettings, RenderMode};
 use chiaro_shading::tonemap::Tonemapper;
 
+use crate::debug_view::DebugView;
+
 /// What the panel shows besides the settings.
 pub struct PanelInfo<'a> {
     /// Size of the rendered frame in pixels.
@@ -34,8 +36,15 @@ pub fn message(ui: &mut egui::Ui, info: &PanelInfo) -> bool {
     dismissed
 }
 
-/// Shows the frame settings' editors; edits `settings` in place.
-pub fn settings(ui: &mut egui::Ui, settings: &mut FrameSettings) {
+/// Shows the frame settings' editors and the debug view's choice; edits them in place.
+pub fn settings(ui: &mut egui::Ui, settings: &mut FrameSettings, view: &mut DebugView) {
+    egui::ComboBox::from_label("view")
+        .selected_text(view.name())
+        .show_ui(ui, |ui| {
+            for v in DebugView::ALL {
+                ui.selectable_value(view, v, v.name());
+            }
+        });
     egui::ComboBox::from_label("mode")
         .selected_text(settings.mode.name())
         .show_ui(ui, |ui| {

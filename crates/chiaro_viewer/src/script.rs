@@ -4,6 +4,8 @@
 //! ```text
 //! # comments and blank lines are skipped
 //! panel off            # hide (or `panel on`: show) the side panel
+//! view normal          # show a debug view (frame albedo normal depth motion direct indirect
+//!                      # instances; `view frame` is the frame itself)
 //! frames 8             # render 8 frames
 //! key W 10             # hold W for 10 frames (keys: W A S D Q E, SHIFT+W etc. for fast)
 //! look 40 -10          # turn the view as a mouse motion of (40, -10) pixels would
@@ -21,6 +23,7 @@ use std::path::{Path, PathBuf};
 use thiserror::Error;
 
 use crate::camera::MoveKeys;
+use crate::debug_view::DebugView;
 
 /// Seconds of camera motion per scripted frame.
 pub const SCRIPT_DT: f32 = 1.0 / 30.0;
@@ -45,6 +48,8 @@ pub enum Command {
     Screenshot(PathBuf),
     /// Show or hide the side panel.
     Panel(bool),
+    /// Show this view of the frame.
+    View(DebugView),
 }
 
 /// A line of a script that does not parse.
@@ -134,14 +139,18 @@ fn parse_line(line: &str, base: &Path) -> Result<Option<Command>, String> {
                 _ => return Err("a screenshot must end in .png or .exr".into()),
             }
         }
+        ("view", [name]) => Command::View(DebugView::from_name(name).ok_or_else(|| {
+            let names: Vec<&str> = DebugView::ALL.iter().map(|v| v.name()).collect();
+            format!("unknown view '{name}' ({})", names.join(", "))
+        })?),
         ("panel", ["on"]) => Command::Panel(true),
         ("panel", ["off"]) => Command::Panel(false),
-        ("frames" | "key" | "look" | "click" | "resize" | "panel", _) => {
+        ("frames" | "key" | "look" | "click" | "resize" | "panel" | "view", _) => {
             return Err(format!("wrong arguments for '{verb}'"));
         }
         _ => {
             return Err(format!(
-                "unknown command '{verb}' (frames, key, look, click, resize, drop, screenshot, panel)"
+                "unknown command '{verb}' (frames, key, look, click, resize, drop, screenshot, panel, view)"
             ));
         }
     };
@@ -176,7 +185,7 @@ mod tests {
     #[test]
     fn parses_every_command() {
         let text = "# a walk\n\npanel off\nframes 8\nkey shift+W 10 # fast\nlook 4 -2.5\nclick 3 4.5\n\
-                    resize 320 240\ndrop scenes/box.glb\nscreenshot shot 1.png\npanel on\n";
+                    resize 320 240\ndrop scenes/box.glb\nscreenshot shot 1.png\npanel on\nview normal\n";
         let commands = parse(text, Path::new("/tmp")).unwrap();
         let fast_w = MoveKeys {
             forward: true,
@@ -195,6 +204,7 @@ mod tests {
                 Command::Drop(PathBuf::from("/tmp/scenes/box.glb")),
                 Command::Screenshot(PathBuf::from("/tmp/shot 1.png")),
                 Command::Panel(true),
+                Command::View(DebugView::Normal),
             ]
         );
         // Absolute paths stay as they are.
@@ -218,6 +228,7 @@ mod tests {
             ("screenshot out.jpg", 1, "must end in .png or .exr"),
             ("drop", 1, "needs a path"),
             ("panel maybe", 1, "wrong arguments for 'panel'"),
+            ("view heat", 1, "unknown view 'heat'"),
         ];
         for (text, line, message) in cases {
             let error = parse(text, Path::new(".")).unwrap_err();
