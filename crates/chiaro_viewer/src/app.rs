@@ -229,7 +229,19 @@ impl App {
                 Command::Frames(n) => (script.frames_left, script.held) = (n, MoveKeys::default()),
                 Command::Keys(keys, n) => (script.frames_left, script.held) = (n, keys),
                 Command::Look(dx, dy) => self.look += Vec2::new(dx, dy),
-                Command::Click(x, y) => self.click = Some(Vec2::new(x, y)),
+                Command::Click(x, y) => self.pick_at(Vec2::new(x, y)),
+                Command::Move(offset) => {
+                    let transform = self
+                        .selected
+                        .and_then(|e| self.world.get_mut::<Transform>(e));
+                    match transform {
+                        Some(mut t) => t.translation += offset,
+                        None => {
+                            self.fail(event_loop, ViewerError::NothingSelected);
+                            return Step::Exit;
+                        }
+                    }
+                }
                 Command::Resize(w, h) => {
                     script.waiting = Some((w, h, 0));
                     if let Some(window) = &self.window {
@@ -296,6 +308,9 @@ impl App {
             None => (self.keys, elapsed.min(MAX_DT)),
         };
         self.move_camera(&keys, dt);
+        if let Some(at) = self.click.take() {
+            self.pick_at(at);
+        }
         let (Some(window), Some(state), Some(display)) = (
             self.window.clone(),
             self.egui_state.as_mut(),
@@ -304,15 +319,6 @@ impl App {
             return;
         };
 
-        if let Some(at) = self.click.take()
-            && let Some(frame) = display.renderer.frame()
-        {
-            let (w, h) = (frame.targets.width, frame.targets.height);
-            self.selected = pick(&self.world, at.x, at.y, w, h);
-            if let Some(entity) = self.selected {
-                log::info!("selected {entity}");
-            }
-        }
         let eye = self.camera.as_ref().map_or(Vec3::ZERO, |c| c.1.position);
         let settings = *self.world.resource::<FrameSettings>();
         let mut edited = settings;
@@ -418,6 +424,18 @@ impl App {
         self.frame_ms = now.elapsed().as_secs_f64() * 1e3;
     }
 
+    /// Selects the instance seen at `at` (pixels of the last frame), or nothing.
+    fn pick_at(&mut self, at: Vec2) {
+        let size = self.display.as_ref().and_then(|d| d.renderer.frame());
+        self.selected = size.and_then(|frame| {
+            let (w, h) = (frame.targets.width, frame.targets.height);
+            pick(&self.world, at.x, at.y, w, h)
+        });
+        if let Some(entity) = self.selected {
+            log::info!("selected {entity}");
+        }
+    }
+
     /// Whether the cursor is over the frame (not over the panel).
     fn over_frame(&self) -> bool {
         match (self.cursor, self.frame_rect) {
@@ -427,8 +445,15 @@ impl App {
     }
 
     /// Keys the viewer handles itself (before egui, which takes Tab for focus).
-    fn on_key(&mut self, code: KeyCode, pressed: bool, egui_wants_keys: bool) {
+    fn on_key(
+        &mut self,
+        event_loop: &ActiveEventLoop,
+        code: KeyCode,
+        pressed: bool,
+        egui_wants_keys: bool,
+    ) {
         match code {
+            KeyCode::Escape if pressed => event_loop.exit(),
             KeyCode::Tab if pressed => self.panel = !self.panel,
             KeyCode::F12 if pressed => {
                 let stem = next_screenshot_stem(Path::new("."));
@@ -509,7 +534,12 @@ impl ApplicationHandler for App {
             WindowEvent::DroppedFile(path) => self.drop_file(&path),
             WindowEvent::KeyboardInput { event, .. } => {
                 if let PhysicalKey::Code(code) = event.physical_key {
-                    self.on_key(code, event.state == ElementState::Pressed, egui_wants_keys);
+                    self.on_key(
+                        event_loop,
+                        code,
+                        event.state == ElementState::Pressed,
+                        egui_wants_keys,
+                    );
                 }
             }
             WindowEvent::Focused(false) => self.keys = MoveKeys::default(),

@@ -8,7 +8,7 @@
 //! each one.
 //!
 //! Keys: W/A/S/D move, Q/E down and up, the right mouse button held turns the view, the wheel
-//! changes the speed, shift moves faster; Tab shows or hides the panel; F12 saves
+//! changes the speed, shift moves faster; Tab shows or hides the panel; Esc quits; F12 saves
 //! `chiaro-NNNN.png` and `chiaro-NNNN.exr` in the working folder. A left click on the frame
 //! selects the instance seen there ([`selection`]); the panel then edits its `Transform` and its
 //! material (in the `Materials` resource), or a light's colour and intensity, and adds or removes
@@ -78,6 +78,9 @@ pub enum ViewerError {
     /// A scripted screenshot could not be written.
     #[error("screenshot: {0}")]
     Screenshot(String),
+    /// A script moved the selection when nothing was selected.
+    #[error("the script moves the selection, but nothing is selected (click on an instance first)")]
+    NothingSelected,
     /// The window did not take the size a script asked for.
     #[error("the window did not resize to {0}x{1} (it is {2:?})")]
     Resize(u32, u32, winit::dpi::PhysicalSize<u32>),

@@ -10,6 +10,8 @@
 //! key W 10             # hold W for 10 frames (keys: W A S D Q E, SHIFT+W etc. for fast)
 //! look 40 -10          # turn the view as a mouse motion of (40, -10) pixels would
 //! click 48 30          # left click at pixel (48, 30) of the frame: selects what it shows
+//! move 0 10 0          # move the selected entity by (0, 10, 0) (its Transform, in its
+//!                      # parent's frame); an error when nothing is selected
 //! resize 320 240       # resize the window and wait until it has that size
 //! drop scene.glb       # load a file as if dropped on the window (.glb, .gltf, .hdr, .exr)
 //! screenshot out.png   # save the last frame: .png (8-bit, tonemapped) or .exr (linear HDR)
@@ -19,6 +21,8 @@
 //! the same way on any machine.
 
 use std::path::{Path, PathBuf};
+
+use glam::Vec3;
 
 use thiserror::Error;
 
@@ -40,6 +44,8 @@ pub enum Command {
     /// Left click at this point of the frame (pixels from its top-left corner): selects the
     /// instance seen there.
     Click(f32, f32),
+    /// Add this to the selected entity's translation.
+    Move(Vec3),
     /// Resize the window's inner area to this many pixels and wait until it has that size.
     Resize(u32, u32),
     /// Load a file as if it were dropped on the window.
@@ -130,6 +136,7 @@ fn parse_line(line: &str, base: &Path) -> Result<Option<Command>, String> {
         ("key", [k, n]) => Command::Keys(keys(k)?, count(n)?),
         ("look", [dx, dy]) => Command::Look(float(dx)?, float(dy)?),
         ("click", [x, y]) => Command::Click(float(x)?, float(y)?),
+        ("move", [x, y, z]) => Command::Move(Vec3::new(float(x)?, float(y)?, float(z)?)),
         ("resize", [w, h]) => Command::Resize(side(w)?, side(h)?),
         ("drop", _) => Command::Drop(path(&args)?),
         ("screenshot", _) => {
@@ -145,12 +152,12 @@ fn parse_line(line: &str, base: &Path) -> Result<Option<Command>, String> {
         })?),
         ("panel", ["on"]) => Command::Panel(true),
         ("panel", ["off"]) => Command::Panel(false),
-        ("frames" | "key" | "look" | "click" | "resize" | "panel" | "view", _) => {
+        ("frames" | "key" | "look" | "click" | "move" | "resize" | "panel" | "view", _) => {
             return Err(format!("wrong arguments for '{verb}'"));
         }
         _ => {
             return Err(format!(
-                "unknown command '{verb}' (frames, key, look, click, resize, drop, screenshot, panel, view)"
+                "unknown command '{verb}' (frames, key, look, click, move, resize, drop, screenshot, panel, view)"
             ));
         }
     };
@@ -184,7 +191,7 @@ mod tests {
 
     #[test]
     fn parses_every_command() {
-        let text = "# a walk\n\npanel off\nframes 8\nkey shift+W 10 # fast\nlook 4 -2.5\nclick 3 4.5\n\
+        let text = "# a walk\n\npanel off\nframes 8\nkey shift+W 10 # fast\nlook 4 -2.5\nclick 3 4.5\nmove 0 -1 2.5\n\
                     resize 320 240\ndrop scenes/box.glb\nscreenshot shot 1.png\npanel on\nview normal\n";
         let commands = parse(text, Path::new("/tmp")).unwrap();
         let fast_w = MoveKeys {
@@ -200,6 +207,7 @@ mod tests {
                 Command::Keys(fast_w, 10),
                 Command::Look(4.0, -2.5),
                 Command::Click(3.0, 4.5),
+                Command::Move(Vec3::new(0.0, -1.0, 2.5)),
                 Command::Resize(320, 240),
                 Command::Drop(PathBuf::from("/tmp/scenes/box.glb")),
                 Command::Screenshot(PathBuf::from("/tmp/shot 1.png")),
@@ -225,6 +233,7 @@ mod tests {
             ("look 1 nan", 1, "not a finite number"),
             ("resize 0 10", 1, "not a window side"),
             ("click 3", 1, "wrong arguments for 'click'"),
+            ("move 1 2", 1, "wrong arguments for 'move'"),
             ("screenshot out.jpg", 1, "must end in .png or .exr"),
             ("drop", 1, "needs a path"),
             ("panel maybe", 1, "wrong arguments for 'panel'"),
