@@ -1,8 +1,7 @@
 //! The winit application: window events to camera moves, settings edits, dropped files and
 //! screenshots; one realtime frame per redraw, shown beside the egui panel.
 
-use std::collections::VecDeque;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -27,28 +26,17 @@ use crate::display::Display;
 use crate::files::{Dropped, load_dropped, next_screenshot_stem, save_screenshot};
 use crate::inspector;
 use crate::panel::{self, PanelInfo};
-use crate::script::{Command, SCRIPT_DT};
+use crate::script::SCRIPT_DT;
 use crate::selection::pick;
 use crate::{ViewerError, ViewerOptions};
 
-/// Frames a scripted `resize` waits for the window to take the size before failing.
-const RESIZE_WAIT_FRAMES: u32 = 300;
+mod scripted;
+
+pub use scripted::read_script;
+use scripted::{Script, Step};
+
 /// Longest camera step of one interactive frame, seconds (a stall does not jump the camera).
 const MAX_DT: f32 = 0.1;
-
-/// A script being replayed.
-struct Script {
-    commands: VecDeque<Command>,
-    frames_left: u32,
-    held: MoveKeys,
-    waiting: Option<(u32, u32, u32)>,
-}
-
-/// What a scripted frame does.
-enum Step {
-    Render(MoveKeys),
-    Exit,
-}
 
 /// The viewer's state.
 pub struct App {
@@ -189,76 +177,6 @@ impl App {
         let (w, h) = save_screenshot(&display.renderer, display.debug_image(), path)?;
         println!("wrote {} ({w}x{h})", path.display());
         Ok(())
-    }
-
-    /// The next scripted step: runs instant commands until one that renders.
-    fn step_script(&mut self, event_loop: &ActiveEventLoop) -> Step {
-        loop {
-            let Some(script) = self.script.as_mut() else {
-                return Step::Exit;
-            };
-            if script.frames_left > 0 {
-                script.frames_left -= 1;
-                return Step::Render(script.held);
-            }
-            if let Some((w, h, waited)) = script.waiting {
-                let size = self.window.as_ref().map(|w| w.inner_size());
-                if size == Some(PhysicalSize::new(w, h)) {
-                    script.waiting = None;
-                    continue;
-                }
-                if waited >= RESIZE_WAIT_FRAMES {
-                    self.fail(
-                        event_loop,
-                        ViewerError::Resize(w, h, size.unwrap_or_default()),
-                    );
-                    return Step::Exit;
-                }
-                script.waiting = Some((w, h, waited + 1));
-                return Step::Render(MoveKeys::default());
-            }
-            let Some(command) = script.commands.pop_front() else {
-                if let Some(path) = self.options.screenshot.take()
-                    && let Err(e) = self.screenshot(&path)
-                {
-                    self.fail(event_loop, ViewerError::Screenshot(e));
-                }
-                return Step::Exit;
-            };
-            match command {
-                Command::Frames(n) => (script.frames_left, script.held) = (n, MoveKeys::default()),
-                Command::Keys(keys, n) => (script.frames_left, script.held) = (n, keys),
-                Command::Look(dx, dy) => self.look += Vec2::new(dx, dy),
-                Command::Click(x, y) => self.pick_at(Vec2::new(x, y)),
-                Command::Move(offset) => {
-                    let transform = self
-                        .selected
-                        .and_then(|e| self.world.get_mut::<Transform>(e));
-                    match transform {
-                        Some(mut t) => t.translation += offset,
-                        None => {
-                            self.fail(event_loop, ViewerError::NothingSelected);
-                            return Step::Exit;
-                        }
-                    }
-                }
-                Command::Resize(w, h) => {
-                    script.waiting = Some((w, h, 0));
-                    if let Some(window) = &self.window {
-                        let _ = window.request_inner_size(PhysicalSize::new(w, h));
-                    }
-                }
-                Command::Panel(on) => self.panel = on,
-                Command::View(view) => self.view = view,
-                Command::Drop(path) => self.drop_file(&path),
-                Command::Screenshot(path) => {
-                    if let Err(e) = self.screenshot(&path) {
-                        self.fail(event_loop, ViewerError::Screenshot(e));
-                        return Step::Exit;
-                    }
-                }
-            }
-        }
     }
 
     /// Moves the camera by the held keys and the mouse motion, through its `Transform`.
@@ -583,14 +501,4 @@ impl ApplicationHandler for App {
             window.request_redraw();
         }
     }
-}
-
-/// Reads and parses a script file.
-pub fn read_script(path: &Path) -> Result<Vec<Command>, ViewerError> {
-    let text = std::fs::read_to_string(path).map_err(|e| ViewerError::Io {
-        path: PathBuf::from(path),
-        message: e.to_string(),
-    })?;
-    let base = path.parent().unwrap_or(Path::new("."));
-    Ok(crate::script::parse(&text, base)?)
 }
