@@ -60,6 +60,9 @@ pub struct App {
     view: DebugView,
     /// The scene's bounding-box diagonal.
     extent: f32,
+    /// Rendered pixels per window pixel, in (0, 1] (below 1 the frame is upscaled: faster on
+    /// slow devices).
+    render_scale: f32,
     panel: bool,
     message: Option<String>,
     times: PassTimes,
@@ -129,6 +132,7 @@ impl App {
             selected: None,
             view: DebugView::Frame,
             extent,
+            render_scale: 1.0,
             panel: true,
             message: None,
             times: PassTimes::default(),
@@ -259,6 +263,7 @@ impl App {
         let mut area = (1, 1);
         let mut frame_rect = None;
         let (world, selected, view) = (&mut self.world, &mut self.selected, &mut self.view);
+        let render_scale = &mut self.render_scale;
         let input = state.take_egui_input(&window);
         let output = self.egui.run_ui(input, |ui| {
             if show_panel {
@@ -270,7 +275,9 @@ impl App {
                             dismissed = panel::message(ui, &info);
                             let section =
                                 |name| egui::CollapsingHeader::new(name).default_open(true);
-                            section("frame").show(ui, |ui| panel::settings(ui, &mut edited, view));
+                            section("frame").show(ui, |ui| {
+                                panel::settings(ui, &mut edited, view, render_scale)
+                            });
                             section("scene")
                                 .show(ui, |ui| inspector::show(ui, world, selected, eye));
                             section("time").show(ui, |ui| panel::times(ui, &info));
@@ -311,8 +318,8 @@ impl App {
         }
 
         let render = RenderSettings {
-            width: area.0,
-            height: area.1,
+            width: ((area.0 as f32 * self.render_scale).round() as u32).max(1),
+            height: ((area.1 as f32 * self.render_scale).round() as u32).max(1),
             frames: 1,
             seed: self.options.seed,
             frame: *self.world.resource::<FrameSettings>(),
@@ -328,7 +335,9 @@ impl App {
             }
         }
         let depth_scale = 0.5 * self.extent;
-        if let Err(e) = display.update_frame_texture(self.view, eye, depth_scale) {
+        if let Err(e) =
+            display.update_frame_texture(self.view, eye, depth_scale, self.render_scale < 1.0)
+        {
             eprintln!("chiaro view: {e}");
             self.message = Some(e.to_string());
             self.view = DebugView::Frame;
@@ -474,7 +483,7 @@ impl ApplicationHandler for App {
                 self.click = self
                     .cursor
                     .zip(self.frame_rect)
-                    .map(|(cursor, (min, _))| cursor - min);
+                    .map(|(cursor, (min, _))| (cursor - min) * self.render_scale);
             }
             WindowEvent::CursorMoved { position, .. } => {
                 let position = Vec2::new(position.x as f32, position.y as f32);

@@ -1,6 +1,7 @@
 //! The window's GPU side: a surface, the chiaro context made on the surface's adapter, the
 //! frame renderer, and egui's painter, which draws the panel and the frame (the frame's
-//! 8-bit image, registered as an egui texture and drawn 1:1 into the area beside the panel).
+//! 8-bit image, registered as an egui texture and drawn into the area beside the panel: 1:1, or upscaled at a
+//! render scale below 1).
 
 use std::sync::Arc;
 
@@ -131,12 +132,14 @@ impl Display {
 
     /// Points the frame's egui texture at what the window shows: the renderer's current 8-bit
     /// image (remade when the frame is resized or the scene replaced), or `view` of it seen
-    /// from `eye` (`depth_scale`: the distance the depth view shows as mid grey).
+    /// from `eye` (`depth_scale`: the distance the depth view shows as mid grey); `upscaled`:
+    /// the image is smaller than its place in the window (filtered bilinearly, else nearest).
     pub fn update_frame_texture(
         &mut self,
         view: DebugView,
         eye: Vec3,
         depth_scale: f32,
+        upscaled: bool,
     ) -> Result<(), ViewerError> {
         let Some(frame) = self.renderer.frame() else {
             return Ok(());
@@ -154,17 +157,17 @@ impl Display {
                 .1
         };
         self.showing_debug = view != DebugView::Frame;
+        let filter = if upscaled {
+            wgpu::FilterMode::Linear
+        } else {
+            wgpu::FilterMode::Nearest
+        };
         match self.frame_texture {
-            Some(id) => self.painter.update_egui_texture_from_wgpu_texture(
-                device,
-                shown,
-                wgpu::FilterMode::Nearest,
-                id,
-            ),
+            Some(id) => self
+                .painter
+                .update_egui_texture_from_wgpu_texture(device, shown, filter, id),
             None => {
-                let id =
-                    self.painter
-                        .register_native_texture(device, shown, wgpu::FilterMode::Nearest);
+                let id = self.painter.register_native_texture(device, shown, filter);
                 self.frame_texture = Some(id);
             }
         }

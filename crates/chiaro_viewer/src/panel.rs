@@ -36,8 +36,14 @@ pub fn message(ui: &mut egui::Ui, info: &PanelInfo) -> bool {
     dismissed
 }
 
-/// Shows the frame settings' editors and the debug view's choice; edits them in place.
-pub fn settings(ui: &mut egui::Ui, settings: &mut FrameSettings, view: &mut DebugView) {
+/// Shows the frame settings' editors, the debug view's choice and the render scale (rendered
+/// pixels per window pixel); edits them in place.
+pub fn settings(
+    ui: &mut egui::Ui,
+    settings: &mut FrameSettings,
+    view: &mut DebugView,
+    render_scale: &mut f32,
+) {
     egui::ComboBox::from_label("view")
         .selected_text(view.name())
         .show_ui(ui, |ui| {
@@ -52,6 +58,7 @@ pub fn settings(ui: &mut egui::Ui, settings: &mut FrameSettings, view: &mut Debu
                 ui.selectable_value(&mut settings.mode, mode, mode.name());
             }
         });
+    ui.add(egui::Slider::new(render_scale, 0.25..=1.0).text("render scale"));
     ui.add(egui::Slider::new(&mut settings.spp, 1..=MAX_SPP).text("spp"));
     ui.add(egui::Slider::new(&mut settings.bounces, 1..=MAX_BOUNCES).text("bounces"));
     ui.separator();

@@ -4,6 +4,7 @@
 //! ```text
 //! # comments and blank lines are skipped
 //! panel off            # hide (or `panel on`: show) the side panel
+//! scale 0.5            # render at half the window's resolution (in (0, 1]; 1 by default)
 //! view normal          # show a debug view (frame albedo normal depth motion direct indirect
 //!                      # instances; `view frame` is the frame itself)
 //! frames 8             # render 8 frames
@@ -56,6 +57,8 @@ pub enum Command {
     Panel(bool),
     /// Show this view of the frame.
     View(DebugView),
+    /// Render this many pixels per window pixel, in [1/16, 1].
+    Scale(f32),
 }
 
 /// A line of a script that does not parse.
@@ -150,14 +153,21 @@ fn parse_line(line: &str, base: &Path) -> Result<Option<Command>, String> {
             let names: Vec<&str> = DebugView::ALL.iter().map(|v| v.name()).collect();
             format!("unknown view '{name}' ({})", names.join(", "))
         })?),
+        ("scale", [s]) => match float(s)? {
+            s if (1.0 / 16.0..=1.0).contains(&s) => Command::Scale(s),
+            _ => return Err(format!("'{s}' is not a render scale in [1/16, 1]")),
+        },
         ("panel", ["on"]) => Command::Panel(true),
         ("panel", ["off"]) => Command::Panel(false),
-        ("frames" | "key" | "look" | "click" | "move" | "resize" | "panel" | "view", _) => {
+        (
+            "frames" | "key" | "look" | "click" | "move" | "resize" | "panel" | "view" | "scale",
+            _,
+        ) => {
             return Err(format!("wrong arguments for '{verb}'"));
         }
         _ => {
             return Err(format!(
-                "unknown command '{verb}' (frames, key, look, click, move, resize, drop, screenshot, panel, view)"
+                "unknown command '{verb}' (frames, key, look, click, move, resize, drop, screenshot, panel, view, scale)"
             ));
         }
     };
@@ -192,7 +202,7 @@ mod tests {
     #[test]
     fn parses_every_command() {
         let text = "# a walk\n\npanel off\nframes 8\nkey shift+W 10 # fast\nlook 4 -2.5\nclick 3 4.5\nmove 0 -1 2.5\n\
-                    resize 320 240\ndrop scenes/box.glb\nscreenshot shot 1.png\npanel on\nview normal\n";
+                    resize 320 240\ndrop scenes/box.glb\nscreenshot shot 1.png\npanel on\nview normal\nscale 0.5\n";
         let commands = parse(text, Path::new("/tmp")).unwrap();
         let fast_w = MoveKeys {
             forward: true,
@@ -213,6 +223,7 @@ mod tests {
                 Command::Screenshot(PathBuf::from("/tmp/shot 1.png")),
                 Command::Panel(true),
                 Command::View(DebugView::Normal),
+                Command::Scale(0.5),
             ]
         );
         // Absolute paths stay as they are.
@@ -238,6 +249,7 @@ mod tests {
             ("drop", 1, "needs a path"),
             ("panel maybe", 1, "wrong arguments for 'panel'"),
             ("view heat", 1, "unknown view 'heat'"),
+            ("scale 2", 1, "not a render scale"),
         ];
         for (text, line, message) in cases {
             let error = parse(text, Path::new(".")).unwrap_err();

@@ -91,6 +91,7 @@ impl App {
                 }
                 Command::Panel(on) => self.panel = on,
                 Command::View(view) => self.view = view,
+                Command::Scale(scale) => self.render_scale = scale,
                 Command::Drop(path) => self.drop_file(&path),
                 Command::Screenshot(path) => {
                     if let Err(e) = self.screenshot(&path) {
