@@ -352,15 +352,20 @@ fn dropped_scene_and_environment_render_like_the_cli() {
 /// The debug views show the G-buffer: in the albedo view (8-bit sRGB) the Cornell box's left
 /// wall is red and its right wall green, the dominant channel ahead of the others by over 50
 /// (measured: left (208, 72, 63), right (105, 179, 85)); in the normal view their normals are opposite (red channels sum to
-/// 255 within 4: measured 255); the instance view colours the two walls differently; the frame
-/// view is the tonemapped frame again.
+/// 255 within 4: measured 255); the instance view colours the two walls differently; after 4
+/// frames of a still camera the history view reads a history of 4 frames (within 0.5: measured
+/// 4.02, i.e. 8-bit grey 32); the filtered lighting of the back wall is lit; the frame view is the tonemapped
+/// frame again.
 #[test]
 fn debug_views_show_the_gbuffer() {
     let Some(x) = xvfb() else { return };
     let dir = temp_dir("debug_views");
     let shot = |view: &str| dir.join(format!("{view}.png"));
-    let mut script = String::from("panel off\nframes 1\n");
-    for view in ["albedo", "normal", "instances", "frame"] {
+    let mut script = format!(
+        "panel off\nframes 1\nview history\nframes 3\nscreenshot {}\n",
+        shot("history").display()
+    );
+    for view in ["albedo", "normal", "instances", "filtered", "frame"] {
         script += &format!(
             "view {view}\nframes 1\nscreenshot {}\n",
             shot(view).display()
@@ -395,6 +400,16 @@ fn debug_views_show_the_gbuffer() {
     assert_ne!(
         pixel("instances", left.0, left.1),
         pixel("instances", right.0, right.1)
+    );
+    // Four frames of a still camera: a history of 4 frames on the back wall (grey = length / 32).
+    let history = f64::from(pixel("history", 24, 10)[0]) * 32.0 / 255.0;
+    eprintln!("history length {history}");
+    assert!((history - 4.0).abs() < 0.5, "history length {history}");
+    // The filtered lighting of the lit back wall is not black.
+    let filtered = pixel("filtered", 24, 10);
+    assert!(
+        filtered.iter().all(|&c| c > 20),
+        "filtered lighting {filtered:?}"
     );
     let frame = pixel("frame", left.0, left.1);
     assert!(

@@ -1,6 +1,8 @@
 // The viewer's debug views of the frame: the G-buffer's base colour, shading normal, distance
-// and instance id, the motion vectors, and this frame's direct and raw (unfiltered) indirect
-// light, written as 8-bit sRGB for display. Normals are decoded by the G-buffer's own packing
+// and instance id, the motion vectors, this frame's direct and raw (unfiltered) indirect light,
+// the denoiser's filtered (demodulated) lighting, the luminance variance of its moments history
+// and its history length, written as 8-bit sRGB for display (the history length as a linear
+// grey, length / 32, so a test can read it back). Normals are decoded by the G-buffer's own packing
 // (octahedral: Cigolle et al., "A Survey of Efficient Representations for Independent Unit
 // Vectors", JCGT 3(2), 2014); light is shown through Reinhard's x / (1 + x) (Reinhard et al.,
 // "Photographic Tone Reproduction for Digital Images", SIGGRAPH 2002).
@@ -27,6 +29,12 @@ struct DebugParams {
 @group(0) @binding(5) var indirect_target: texture_2d<f32>;
 @group(0) @binding(6) var output: texture_storage_2d<rgba8unorm, write>;
 @group(0) @binding(7) var<uniform> params: DebugParams;
+@group(0) @binding(8) var filtered_target: texture_2d<f32>;
+// Mean luminance, mean squared luminance, history length in frames, 0.
+@group(0) @binding(9) var moments_target: texture_2d<f32>;
+
+// Longest history the history view tells apart (shown as white).
+const HISTORY_WHITE: f32 = 32.0;
 
 fn srgb_encode(linear: vec3<f32>) -> vec3<f32> {
     let c = clamp(linear, vec3<f32>(0.0), vec3<f32>(1.0));
@@ -91,6 +99,18 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             if covered {
                 colour = instance_colour(s.instance);
             }
+        }
+        case 8u: {
+            colour = srgb_encode(reinhard(textureLoad(filtered_target, p, 0).rgb));
+        }
+        case 9u: {
+            // Standard deviation relative to the mean luminance.
+            let m = textureLoad(moments_target, p, 0);
+            let deviation = sqrt(max(m.y - m.x * m.x, 0.0));
+            colour = vec3<f32>(srgb_encode(vec3<f32>(deviation / (m.x + 0.01))).x);
+        }
+        case 10u: {
+            colour = vec3<f32>(min(textureLoad(moments_target, p, 0).z, HISTORY_WHITE) / HISTORY_WHITE);
         }
         default: {}
     }

@@ -1,10 +1,11 @@
 //! Debug views: one compute pass (`shaders/debug_view.wgsl`) that turns a part of the frame
 //! (G-buffer base colour, normals, distance, motion, instance ids; this frame's direct and raw
-//! indirect light) into an 8-bit image the window shows instead of the frame.
+//! indirect light; the denoiser's filtered lighting, variance and history length) into an
+//! 8-bit image the window shows instead of the frame.
 
 use bytemuck::{Pod, Zeroable};
 use chiaro_gpu::ShaderError;
-use chiaro_gpu::targets::FrameTargets;
+use chiaro_gpu::frame::Frame;
 use glam::Vec3;
 
 /// The viewer's own shader, composed with chiaro's shader library.
@@ -31,11 +32,17 @@ pub enum DebugView {
     Indirect,
     /// A colour per instance.
     Instances,
+    /// The denoiser's filtered lighting (demodulated: over the albedo), Reinhard-tonemapped.
+    Filtered,
+    /// The luminance standard deviation of the denoiser's moments history over its mean.
+    Variance,
+    /// The denoiser's history length in frames, as a linear grey: length / 32 (white from 32).
+    History,
 }
 
 impl DebugView {
     /// Every view, in the order of their shader indices.
-    pub const ALL: [DebugView; 8] = [
+    pub const ALL: [DebugView; 11] = [
         DebugView::Frame,
         DebugView::Albedo,
         DebugView::Normal,
@@ -44,6 +51,9 @@ impl DebugView {
         DebugView::Direct,
         DebugView::Indirect,
         DebugView::Instances,
+        DebugView::Filtered,
+        DebugView::Variance,
+        DebugView::History,
     ];
 
     /// The view's name (in the panel and in scripts).
@@ -57,6 +67,9 @@ impl DebugView {
             DebugView::Direct => "direct",
             DebugView::Indirect => "indirect",
             DebugView::Instances => "instances",
+            DebugView::Filtered => "filtered",
+            DebugView::Variance => "variance",
+            DebugView::History => "history",
         }
     }
 
@@ -148,6 +161,8 @@ impl DebugPass {
                 },
                 count: None,
             },
+            texture_entry(8, float),
+            texture_entry(9, float),
         ];
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("debug view layout"),
@@ -190,17 +205,18 @@ impl DebugPass {
         self.output.as_ref().map(|(t, _)| t)
     }
 
-    /// Renders `view` of the frame in `targets` seen from `eye` (`depth_scale`: the distance
-    /// shown as mid grey) and returns the image (the size of the frame).
+    /// Renders `view` of `frame` seen from `eye` (`depth_scale`: the distance shown as mid
+    /// grey) and returns the image (the size of the frame).
     pub fn run(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
-        targets: &FrameTargets,
+        frame: &Frame,
         view: DebugView,
         eye: Vec3,
         depth_scale: f32,
     ) -> (&wgpu::Texture, &wgpu::TextureView) {
+        let targets = &frame.targets;
         let size = (targets.width, targets.height);
         let stale = self
             .output
@@ -259,6 +275,13 @@ impl DebugPass {
             binding: 7,
             resource: self.params.as_entire_binding(),
         });
+        let denoiser = frame.denoiser();
+        for (binding, view) in [(8, denoiser.output()), (9, denoiser.moments())] {
+            entries.push(wgpu::BindGroupEntry {
+                binding,
+                resource: wgpu::BindingResource::TextureView(view),
+            });
+        }
         let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("debug view bind group"),
             layout: &self.layout,

@@ -153,8 +153,7 @@ impl Display {
                 self.debug = Some(pass);
             }
             let pass = self.debug.as_mut().expect("made above");
-            pass.run(device, queue, &frame.targets, view, eye, depth_scale)
-                .1
+            pass.run(device, queue, frame, view, eye, depth_scale).1
         };
         self.showing_debug = view != DebugView::Frame;
         let filter = if upscaled {

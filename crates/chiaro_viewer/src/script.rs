@@ -5,8 +5,8 @@
 //! # comments and blank lines are skipped
 //! panel off            # hide (or `panel on`: show) the side panel
 //! scale 0.5            # render at half the window's resolution (in (0, 1]; 1 by default)
-//! view normal          # show a debug view (frame albedo normal depth motion direct indirect
-//!                      # instances; `view frame` is the frame itself)
+//! view normal          # show a debug view (albedo normal depth motion direct indirect
+//!                      # instances filtered variance history; `view frame`: the frame)
 //! frames 8             # render 8 frames
 //! key W 10             # hold W for 10 frames (keys: W A S D Q E, SHIFT+W etc. for fast)
 //! look 40 -10          # turn the view as a mouse motion of (40, -10) pixels would
