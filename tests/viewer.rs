@@ -351,11 +351,11 @@ fn dropped_scene_and_environment_render_like_the_cli() {
 
 /// The debug views show the G-buffer: in the albedo view (8-bit sRGB) the Cornell box's left
 /// wall is red and its right wall green, the dominant channel ahead of the others by over 50
-/// (measured: left (208, 72, 63), right (105, 179, 85)); in the normal view their normals are opposite (red channels sum to
-/// 255 within 4: measured 255); the instance view colours the two walls differently; after 4
-/// frames of a still camera the history view reads a history of 4 frames (within 0.5: measured
-/// 4.02, i.e. 8-bit grey 32); the filtered lighting of the back wall is lit; the frame view is the tonemapped
-/// frame again.
+/// (measured: left (208, 72, 63), right (105, 179, 85)); in the normal view their normals are
+/// opposite (red channels sum to 255 within 4: measured 255); the instance view colours the two
+/// walls differently; after 4 frames of a still camera the history view reads a history of 4
+/// frames (within 0.5: measured 4.02, i.e. 8-bit grey 32); the filtered lighting of the back
+/// wall is lit; the frame view is the tonemapped frame again.
 #[test]
 fn debug_views_show_the_gbuffer() {
     let Some(x) = xvfb() else { return };

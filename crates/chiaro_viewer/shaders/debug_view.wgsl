@@ -38,7 +38,8 @@ const HISTORY_WHITE: f32 = 32.0;
 
 fn srgb_encode(linear: vec3<f32>) -> vec3<f32> {
     let c = clamp(linear, vec3<f32>(0.0), vec3<f32>(1.0));
-    return select(1.055 * pow(c, vec3<f32>(1.0 / 2.4)) - 0.055, 12.92 * c, c <= vec3<f32>(0.0031308));
+    let curve = 1.055 * pow(c, vec3<f32>(1.0 / 2.4)) - 0.055;
+    return select(curve, 12.92 * c, c <= vec3<f32>(0.0031308));
 }
 
 fn reinhard(radiance: vec3<f32>) -> vec3<f32> {
@@ -87,7 +88,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         }
         case 4u: {
             let m = bitcast<vec2<f32>>(textureLoad(motion_target, p, 0).xy);
-            colour = vec3<f32>(clamp(0.5 + 0.5 * m / params.motion_scale, vec2<f32>(0.0), vec2<f32>(1.0)), 0.5);
+            let shown = clamp(0.5 + 0.5 * m / params.motion_scale, vec2<f32>(0.0), vec2<f32>(1.0));
+            colour = vec3<f32>(shown, 0.5);
         }
         case 5u: {
             colour = srgb_encode(reinhard(textureLoad(direct_target, p, 0).rgb));
@@ -110,7 +112,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             colour = vec3<f32>(srgb_encode(vec3<f32>(deviation / (m.x + 0.01))).x);
         }
         case 10u: {
-            colour = vec3<f32>(min(textureLoad(moments_target, p, 0).z, HISTORY_WHITE) / HISTORY_WHITE);
+            let length = textureLoad(moments_target, p, 0).z;
+            colour = vec3<f32>(min(length, HISTORY_WHITE) / HISTORY_WHITE);
         }
         default: {}
     }

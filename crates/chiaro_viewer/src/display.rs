@@ -1,7 +1,7 @@
 //! The window's GPU side: a surface, the chiaro context made on the surface's adapter, the
-//! frame renderer, and egui's painter, which draws the panel and the frame (the frame's
-//! 8-bit image, registered as an egui texture and drawn into the area beside the panel: 1:1, or upscaled at a
-//! render scale below 1).
+//! frame renderer, and egui's painter, which draws the panel and the frame (the frame's 8-bit
+//! image, or a debug view, registered as an egui texture and drawn into the area beside the
+//! panel: 1:1, or upscaled at a render scale below 1).
 
 use std::sync::Arc;
 

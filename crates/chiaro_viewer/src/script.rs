@@ -167,7 +167,8 @@ fn parse_line(line: &str, base: &Path) -> Result<Option<Command>, String> {
         }
         _ => {
             return Err(format!(
-                "unknown command '{verb}' (frames, key, look, click, move, resize, drop, screenshot, panel, view, scale)"
+                "unknown command '{verb}' (frames, key, look, click, move, resize, drop, \
+                 screenshot, panel, view, scale)"
             ));
         }
     };
@@ -201,8 +202,9 @@ mod tests {
 
     #[test]
     fn parses_every_command() {
-        let text = "# a walk\n\npanel off\nframes 8\nkey shift+W 10 # fast\nlook 4 -2.5\nclick 3 4.5\nmove 0 -1 2.5\n\
-                    resize 320 240\ndrop scenes/box.glb\nscreenshot shot 1.png\npanel on\nview normal\nscale 0.5\n";
+        let text = "# a walk\n\npanel off\nframes 8\nkey shift+W 10 # fast\nlook 4 -2.5\n\
+                    click 3 4.5\nmove 0 -1 2.5\nresize 320 240\ndrop scenes/box.glb\n\
+                    screenshot shot 1.png\npanel on\nview normal\nscale 0.5\n";
         let commands = parse(text, Path::new("/tmp")).unwrap();
         let fast_w = MoveKeys {
             forward: true,
