@@ -21,7 +21,22 @@ struct Xvfb {
 }
 
 impl Drop for Xvfb {
+    /// Stops the server with SIGTERM, so that it removes its socket and lock file (SIGKILL
+    /// would leave them behind), and with SIGKILL if it has not stopped within 5 s.
     fn drop(&mut self) {
+        let terminated = Command::new("kill")
+            .args(["-TERM", &self.child.id().to_string()])
+            .status()
+            .is_ok_and(|s| s.success());
+        if terminated {
+            let start = Instant::now();
+            while start.elapsed() < Duration::from_secs(5) {
+                if let Ok(Some(_)) = self.child.try_wait() {
+                    return;
+                }
+                std::thread::sleep(Duration::from_millis(20));
+            }
+        }
         let _ = self.child.kill();
         let _ = self.child.wait();
     }
