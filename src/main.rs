@@ -119,6 +119,36 @@ enum Command {
     /// reference (cached), error after 1, 4, 16 and 64 frames, frame and pass times; writes
     /// results.json, results.md and an error-against-time plot per scene.
     Bench(bench::BenchArgs),
+    /// Open a window on the realtime frame: W/A/S/D and Q/E move, the right mouse button held
+    /// turns the view, the wheel sets the speed, shift is fast; Tab shows the settings panel;
+    /// F12 saves chiaro-NNNN.png and .exr; drop a .glb, .gltf, .hdr or .exr to load it.
+    View {
+        /// A .gltf or .glb file, or builtin:NAME.
+        #[arg(default_value = "builtin:cornell")]
+        scene: String,
+        /// Replaces the scene's environment: an .hdr or .exr image, or a colour R,G,B.
+        #[arg(long)]
+        env: Option<String>,
+        /// Multiplies the environment's radiance.
+        #[arg(long, default_value_t = 1.0)]
+        env_strength: f32,
+        /// Window size, WxH.
+        #[arg(long, default_value = "1280x720", value_parser = parse_size)]
+        size: (u32, u32),
+        /// Replays the input in this file (frames N, key W N, look DX DY, resize W H,
+        /// drop PATH, screenshot PATH, panel on|off; one a line), then exits.
+        #[arg(long)]
+        script: Option<PathBuf>,
+        /// Saves the last frame when the script ends (after 16 frames without --script):
+        /// .png (tonemapped) or .exr (linear HDR).
+        #[arg(long)]
+        screenshot: Option<PathBuf>,
+        #[command(flatten)]
+        frame: FrameArgs,
+        /// Seed of the random numbers.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+    },
 }
 
 /// What `chiaro render` computes per frame.
@@ -220,6 +250,30 @@ fn main() -> Result<()> {
         }
         Command::Compare(args) => compare::run(&args),
         Command::Bench(args) => bench::run(&args),
+        Command::View {
+            scene,
+            env,
+            env_strength,
+            size,
+            script,
+            screenshot,
+            frame,
+            seed,
+        } => {
+            let scene = SceneArgs {
+                scene,
+                env,
+                env_strength,
+            };
+            view(
+                &scene,
+                size,
+                script.as_deref(),
+                screenshot,
+                frame.settings(),
+                seed,
+            )
+        }
         Command::Reference {
             scene,
             spp,
@@ -363,6 +417,33 @@ fn render(
         println!("  {name:<10} {:8.3} ms (median, {clock})", ms[ms.len() / 2]);
     }
     Ok(())
+}
+
+fn view(
+    args: &SceneArgs,
+    size: (u32, u32),
+    script: Option<&Path>,
+    screenshot: Option<PathBuf>,
+    frame: FrameSettings,
+    seed: u64,
+) -> Result<()> {
+    frame.validate()?;
+    let script = match script {
+        Some(path) => Some(chiaro_viewer::read_script(path)?),
+        None => screenshot
+            .as_ref()
+            .map(|_| vec![chiaro_viewer::script::Command::Frames(16)]),
+    };
+    let mut world = load(args)?;
+    world.insert_resource(frame);
+    let options = chiaro_viewer::ViewerOptions {
+        title: format!("chiaro: {}", args.scene),
+        size,
+        script,
+        screenshot,
+        seed,
+    };
+    Ok(chiaro_viewer::run(world, options)?)
 }
 
 fn reference(args: &SceneArgs, settings: &RenderSettings, out: &Path) -> Result<()> {

@@ -284,6 +284,12 @@ impl Denoiser {
         &self.output.view
     }
 
+    /// The moments history (rgba32float, the targets' size; the same view every frame): what
+    /// [`Denoiser::read_moments`] reads.
+    pub fn moments(&self) -> &wgpu::TextureView {
+        &self.moments_history.view
+    }
+
     /// The last frame's filtered lighting (what [`Denoiser::output`] views), per pixel.
     pub fn read_output(
         &self,
