@@ -81,3 +81,22 @@ pub fn masked_mean(x: &[Vec3], mask: &[bool]) -> f64 {
     }
     if n == 0 { 0.0 } else { sum / n as f64 }
 }
+
+/// `mask` (`width` pixels a row) less every pixel with a 4-neighbour outside it or on the
+/// image's border: pixels whose whole footprint (under any sub-pixel jitter) is inside.
+#[allow(dead_code)]
+pub fn erode(mask: &[bool], width: usize) -> Vec<bool> {
+    let height = mask.len() / width;
+    (0..mask.len())
+        .map(|i| {
+            let (x, y) = (i % width, i / width);
+            x > 0
+                && y > 0
+                && x + 1 < width
+                && y + 1 < height
+                && [i, i - 1, i + 1, i - width, i + width]
+                    .iter()
+                    .all(|&j| mask[j])
+        })
+        .collect()
+}
