@@ -64,8 +64,7 @@ fn the_firefly_clamp_lowers_realtime_error_on_the_tiny_emitter() {
         eprintln!("firefly clamp {clamp}: (relMSE, mean) per seed {per_seed:.4?}");
         runs.push(per_seed);
     }
-    for seed in 0..2 {
-        let (off, half, two) = (runs[0][seed], runs[1][seed], runs[2][seed]);
+    for (seed, ((off, half), two)) in runs[0].iter().zip(&runs[1]).zip(&runs[2]).enumerate() {
         assert!(
             half.0 < 0.9 * off.0,
             "seed {}: clamp 0.5 relMSE {} against {} off",
