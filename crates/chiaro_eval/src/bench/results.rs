@@ -182,7 +182,11 @@ impl BenchResults {
                 md += &at.join("; ");
                 md += ".\n";
             }
-            if scene.runs.iter().any(|r| r.config == super::camera_path::PATH_CONFIG) {
+            if scene
+                .runs
+                .iter()
+                .any(|r| r.config == super::camera_path::PATH_CONFIG)
+            {
                 md += &format!(
                     "\n`{}`: the realtime configuration while the camera pans {} degrees over \
                      the run at a steady rate, each checkpoint against the converged reference \
