@@ -27,6 +27,10 @@
 // Random numbers: one PCG32 per pixel and frame on stream (pixel index, frame | INDIRECT_STREAM),
 // independent of the direct pass's (pixel index, frame) for frames below 2^30.
 //
+// Firefly clamp (`firefly_clamp` > 0, realtime mode only): a path whose contribution has a
+// luminance above the clamp is scaled down to it, its colour kept. This trades the rare very
+// bright paths (noise the denoiser spreads into blotches) for a loss of energy (bias).
+//
 // Test hook: with `poison` nonzero, pixel (0, 0) writes NaN and pixel (1, 0) writes +infinity
 // (what the denoiser's non-finite guard must keep out of its history).
 
@@ -42,6 +46,7 @@
 #import lib/gbuffer_inputs.wgsl
 #import lib/surface.wgsl
 #import lib/next_event.wgsl
+#import lib/color.wgsl
 
 // chiaro_gpu::passes::indirect::IndirectParams.
 struct IndirectParams {
@@ -54,6 +59,11 @@ struct IndirectParams {
     poison: u32,
     // LIGHT_SAMPLING_POWER or LIGHT_SAMPLING_TREE.
     light_sampling: u32,
+    // Most luminance of one path's contribution; 0: off.
+    firefly_clamp: f32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
 }
 
 // lib/next_event.wgsl's hook.
@@ -142,6 +152,15 @@ fn trace_path(x0: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
             break;
         }
         s = next.shading;
+    }
+    return clamp_firefly(total);
+}
+
+// The path's contribution, scaled down to a luminance of `firefly_clamp` when above it.
+fn clamp_firefly(total: vec3<f32>) -> vec3<f32> {
+    let y = luminance(total);
+    if params.firefly_clamp > 0.0 && y > params.firefly_clamp {
+        return total * (params.firefly_clamp / y);
     }
     return total;
 }

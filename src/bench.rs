@@ -40,6 +40,10 @@ pub struct BenchArgs {
     /// Only these configurations (by name, as the table lists them); all by default.
     #[arg(long, value_delimiter = ',')]
     configs: Vec<String>,
+    /// Leaves out the realtime run along the scripted camera path (`realtime-path`, a pan of
+    /// 8 degrees over the run) and its references at each checkpoint's pose.
+    #[arg(long)]
+    no_camera_path: bool,
 }
 
 /// Runs the benchmark, showing progress, and prints the markdown table.
@@ -80,11 +84,13 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         reference_spp: args.reference_spp,
         cache_dir: args.out.join("cache"),
         warmup_frames: args.warmup,
+        camera_path: !args.no_camera_path,
     };
     let context = chiaro::gpu::GpuContext::new_headless()?;
     eprintln!("adapter: {}", context.describe());
     let mut renderer = chiaro::gpu::Renderer::new(context);
-    let bar = ProgressBar::new((scenes.len() * (configs.len() + 1)) as u64);
+    let path_steps = if settings.camera_path { 2 } else { 0 };
+    let bar = ProgressBar::new((scenes.len() * (configs.len() + 1 + path_steps)) as u64);
     bar.set_style(
         ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} {msg}")
             .expect("a valid template")
@@ -99,6 +105,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         bar.set_message(match step {
             BenchProgress::Reference(scene) => format!("{scene}: reference"),
             BenchProgress::Run { scene, config } => format!("{scene}: {config}"),
+            BenchProgress::PathReferences(scene) => format!("{scene}: references along the path"),
         });
     };
     let results = run_bench(&mut renderer, &scenes, &configs, &settings, &mut progress)?;

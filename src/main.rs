@@ -197,6 +197,10 @@ struct FrameArgs {
     /// through light trees) or power (by power alone).
     #[arg(long, default_value = "tree")]
     light_sampling: LightSampling,
+    /// Most luminance one realtime indirect path may bring, a brighter one scaled down to it
+    /// (fewer fireflies, some energy lost); 0 is off.
+    #[arg(long, default_value_t = 0.0)]
+    firefly_clamp: f32,
 }
 
 impl FrameArgs {
@@ -206,6 +210,7 @@ impl FrameArgs {
             spp: self.spp,
             bounces: self.bounces,
             light_sampling: self.light_sampling,
+            firefly_clamp: self.firefly_clamp,
             ..FrameSettings::default()
         };
         settings.denoise.enabled = !self.no_denoise;

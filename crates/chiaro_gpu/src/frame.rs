@@ -317,6 +317,12 @@ impl Frame {
             naive: u32::from(naive),
             poison: u32::from(input.poison),
             light_sampling: light_sampling(s),
+            firefly_clamp: if s.mode == RenderMode::Realtime {
+                s.firefly_clamp
+            } else {
+                0.0
+            },
+            pad: [0; 3],
         };
         queue.write_buffer(&self.indirect_params, 0, bytemuck::bytes_of(&indirect));
         let composite = CompositeParams {

@@ -128,6 +128,13 @@ pub struct FrameSettings {
     /// The feature set the scene-reading passes are compiled for: by default what the scene
     /// uses, so a scene pays nothing for features it lacks.
     pub pipeline: PipelineChoice,
+    /// Firefly clamp of the realtime mode's indirect paths: 0 (the default) is off; otherwise
+    /// the most luminance one path may bring to the indirect light (all of which it gathers
+    /// after the first bounce), a brighter path scaled down to it (its colour kept). Lower:
+    /// fewer fireflies (rare, very bright paths, e.g. a small bright emitter found by a BRDF
+    /// ray) and more energy lost, a darker image (bias); higher: closer to unbiased. The
+    /// reference and naive modes ignore it (they stay unbiased).
+    pub firefly_clamp: f32,
 }
 
 impl Default for FrameSettings {
@@ -141,6 +148,7 @@ impl Default for FrameSettings {
             tonemapper: Tonemapper::PbrNeutral,
             exposure: 1.0,
             pipeline: PipelineChoice::Specialized,
+            firefly_clamp: 0.0,
         }
     }
 }
@@ -196,6 +204,13 @@ impl FrameSettings {
         if !(self.exposure.is_finite() && self.exposure > 0.0) {
             return fail("exposure", self.exposure.to_string(), "finite and above 0");
         }
+        if !(self.firefly_clamp.is_finite() && self.firefly_clamp >= 0.0) {
+            return fail(
+                "firefly_clamp",
+                self.firefly_clamp.to_string(),
+                "finite and at least 0 (0 is off)",
+            );
+        }
         Ok(())
     }
 }
@@ -218,5 +233,17 @@ mod tests {
         let mut bad = FrameSettings::default();
         bad.denoise.temporal_floor = 0.0;
         assert_eq!(bad.validate().unwrap_err().name, "temporal_floor");
+        for clamp in [-1.0, f32::INFINITY, f32::NAN] {
+            let bad = FrameSettings {
+                firefly_clamp: clamp,
+                ..Default::default()
+            };
+            assert_eq!(bad.validate().unwrap_err().name, "firefly_clamp");
+        }
+        let clamped = FrameSettings {
+            firefly_clamp: 10.0,
+            ..Default::default()
+        };
+        assert_eq!(clamped.validate(), Ok(()));
     }
 }

@@ -1,9 +1,12 @@
 //! `chiaro bench`: speed against error. For each scene, the converged CPU reference (cached on
 //! disk), then each GPU configuration from a fresh start on a static camera: the wall time of
 //! every frame and the median time of each pass, and relMSE and mean LDR-FLIP against the
-//! reference after each checkpoint's frame count. Results go to `results.json`, `results.md`
-//! and one error-against-time plot per scene (see [`write_outputs`]).
+//! reference after each checkpoint's frame count; then the realtime configuration along a
+//! scripted camera path ([`camera_path`]), measured after each checkpoint against the
+//! converged reference at that frame's pose (`realtime-path`). Results go to `results.json`,
+//! `results.md` and one error-against-time plot per scene (see [`write_outputs`]).
 
+pub mod camera_path;
 mod plot;
 mod reference_cache;
 pub mod results;
@@ -21,7 +24,9 @@ use chiaro_scene::{Environment, load_scene};
 use thiserror::Error;
 
 use crate::{CompareSettings, EvalError, HdrImage, compare};
-pub use reference_cache::{Reference, converged_reference};
+use camera_path::{PATH_CONFIG, camera_transform, pan_at, set_pan};
+use chiaro_scene::Transform;
+pub use reference_cache::{Reference, converged_reference, converged_reference_at};
 use results::{BenchResults, Checkpoint, RunResult, SceneResult};
 
 /// Why a benchmark stopped.
@@ -257,6 +262,9 @@ pub struct BenchSettings {
     pub cache_dir: PathBuf,
     /// Frames rendered and thrown away before timing (pipelines and caches warm).
     pub warmup_frames: u32,
+    /// Whether the realtime configuration also runs along the camera path (one more
+    /// converged reference per checkpoint and scene, cached like the static one).
+    pub camera_path: bool,
 }
 
 /// What the benchmark is doing, for a progress display.
@@ -271,6 +279,8 @@ pub enum BenchProgress {
         /// The configuration.
         config: String,
     },
+    /// Rendering or reading the references along the camera path of a scene.
+    PathReferences(String),
 }
 
 fn median(values: &mut [f64]) -> f64 {
@@ -278,13 +288,16 @@ fn median(values: &mut [f64]) -> f64 {
     values.get(values.len() / 2).copied().unwrap_or(0.0)
 }
 
-/// Runs `config` on `world` and measures it against `reference`.
+/// Runs `config` on `world` and measures it after the i-th checkpoint against
+/// `references[i]`; with `path` (the camera's own transform), the camera pans along the
+/// scripted path before each frame ([`camera_path`]) and is put back after the run.
 fn measure(
     renderer: &mut Renderer,
     world: &mut World,
     config: &BenchConfig,
     settings: &BenchSettings,
-    reference: &HdrImage,
+    references: &[&HdrImage],
+    path: Option<&Transform>,
 ) -> Result<RunResult, BenchError> {
     let render = RenderSettings {
         width: settings.width,
@@ -309,6 +322,9 @@ fn measure(
     let mut seconds = 0.0;
     let last = settings.checkpoints.last().copied().unwrap_or(1);
     for frame in 1..=last {
+        if let Some(base) = path {
+            set_pan(world, base, pan_at(frame, last));
+        }
         let start = Instant::now();
         let times = if frame == 1 {
             renderer
@@ -335,10 +351,10 @@ fn measure(
                 }
             }
         }
-        if settings.checkpoints.contains(&frame) {
+        if let Some(k) = settings.checkpoints.iter().position(|c| *c == frame) {
             let output = renderer.read(&render)?;
             let image = HdrImage::new(&config.name, output.width, output.height, output.hdr)?;
-            let metrics = compare(&image, reference, &compare_settings)?.metrics;
+            let metrics = compare(&image, references[k], &compare_settings)?.metrics;
             checkpoints.push(Checkpoint {
                 frames: frame,
                 seconds,
@@ -346,6 +362,9 @@ fn measure(
                 flip_mean: metrics.flip_mean,
             });
         }
+    }
+    if let Some(base) = path {
+        set_pan(world, base, 0.0);
     }
     Ok(RunResult {
         config: config.name.clone(),
@@ -357,6 +376,44 @@ fn measure(
         gpu_timestamps,
         checkpoints,
     })
+}
+
+/// The realtime configuration along the camera path, against the converged reference at
+/// each checkpoint's pose.
+fn measure_path(
+    renderer: &mut Renderer,
+    world: &mut World,
+    scene: &BenchScene,
+    settings: &BenchSettings,
+    progress: &mut dyn FnMut(BenchProgress),
+) -> Result<RunResult, BenchError> {
+    progress(BenchProgress::PathReferences(scene.label()));
+    let last = settings.checkpoints.last().copied().unwrap_or(1);
+    let references = settings
+        .checkpoints
+        .iter()
+        .map(|&frame| {
+            converged_reference_at(
+                scene,
+                pan_at(frame, last),
+                settings.width,
+                settings.height,
+                settings.reference_spp,
+                &settings.cache_dir,
+            )
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let base = camera_transform(world, &scene.label())?;
+    progress(BenchProgress::Run {
+        scene: scene.label(),
+        config: PATH_CONFIG.into(),
+    });
+    let config = BenchConfig {
+        name: PATH_CONFIG.into(),
+        settings: RenderSettings::default(),
+    };
+    let images: Vec<&HdrImage> = references.iter().map(|r| &r.image).collect();
+    measure(renderer, world, &config, settings, &images, Some(&base))
 }
 
 /// Runs every configuration on every scene; `progress` hears of each step before it starts.
@@ -399,17 +456,19 @@ pub fn run_bench(
         )?;
         let mut world = scene.load()?;
         let mut runs = Vec::new();
+        let statics = vec![&reference.image; settings.checkpoints.len()];
         for config in configs {
             progress(BenchProgress::Run {
                 scene: scene.label(),
                 config: config.name.clone(),
             });
             runs.push(measure(
-                renderer,
-                &mut world,
-                config,
-                settings,
-                &reference.image,
+                renderer, &mut world, config, settings, &statics, None,
+            )?);
+        }
+        if settings.camera_path {
+            runs.push(measure_path(
+                renderer, &mut world, scene, settings, progress,
             )?);
         }
         results.scenes.push(SceneResult {

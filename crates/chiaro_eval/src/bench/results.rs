@@ -182,6 +182,19 @@ impl BenchResults {
                 md += &at.join("; ");
                 md += ".\n";
             }
+            if scene
+                .runs
+                .iter()
+                .any(|r| r.config == super::camera_path::PATH_CONFIG)
+            {
+                md += &format!(
+                    "\n`{}`: the realtime configuration while the camera pans {} degrees over \
+                     the run at a steady rate, each checkpoint against the converged reference \
+                     at that frame's pose.\n",
+                    super::camera_path::PATH_CONFIG,
+                    super::camera_path::PAN_DEGREES
+                );
+            }
             if let Some(line) = scene.specialization_summary() {
                 md += &format!("\n{line}\n");
             }

@@ -32,6 +32,11 @@ pub struct IndirectParams {
     /// How a light is picked: `LIGHT_SAMPLING_POWER` or `LIGHT_SAMPLING_TREE`
     /// (`gpu_scene::layout`).
     pub light_sampling: u32,
+    /// Most luminance of one path's contribution, a brighter one scaled down to it; 0: no
+    /// clamp (`FrameSettings::firefly_clamp`, realtime mode only).
+    pub firefly_clamp: f32,
+    /// Padding to 16 bytes.
+    pub pad: [u32; 3],
 }
 
 /// Selects the indirect pass's shader and output.

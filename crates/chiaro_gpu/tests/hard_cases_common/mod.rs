@@ -1,10 +1,13 @@
-//! What the hard-case suite's test files share: each case's camera, render settings by mode.
+//! What the hard-case suite's test files share: each case's camera, render settings by mode,
+//! the CPU reference, metrics over a mask of pixels.
 
 use bevy_ecs::prelude::{Entity, Name, World};
 use chiaro_gpu::{FrameSettings, RenderMode, RenderSettings};
 use chiaro_scene::{ActiveCamera, Camera};
+use glam::Vec3;
 
 /// Makes the camera of `case` the active one.
+#[allow(dead_code)]
 pub fn view_case(world: &mut World, case: &str) {
     let name = format!("{case} camera");
     let mut cameras = world.query::<(Entity, &Name, &Camera)>();
@@ -17,6 +20,7 @@ pub fn view_case(world: &mut World, case: &str) {
 }
 
 /// `frames` frames of `size` x `size` with `seed`.
+#[allow(dead_code)]
 pub fn settings(size: u32, frames: u32, seed: u64, frame: FrameSettings) -> RenderSettings {
     RenderSettings {
         width: size,
@@ -28,9 +32,71 @@ pub fn settings(size: u32, frames: u32, seed: u64, frame: FrameSettings) -> Rend
 }
 
 /// The default frame settings in `mode`.
+#[allow(dead_code)]
 pub fn mode(mode: RenderMode) -> FrameSettings {
     FrameSettings {
         mode,
         ..FrameSettings::default()
     }
+}
+
+/// The CPU reference of the active camera's view: `size` x `size`, `spp` paths, seed 7.
+#[allow(dead_code)]
+pub fn cpu_reference(
+    world: &mut World,
+    size: u32,
+    spp: u32,
+    path: chiaro_reference::PathSettings,
+) -> chiaro_reference::RenderOutput {
+    let settings = chiaro_reference::RenderSettings {
+        width: size,
+        height: size,
+        spp,
+        seed: 7,
+        threads: None,
+        path,
+    };
+    chiaro_reference::render_world(world, &settings, false).unwrap()
+}
+
+/// relMSE (epsilon 0.01) over the pixels where `mask` is true; 0 for an empty mask.
+#[allow(dead_code)]
+pub fn masked_rel_mse(x: &[Vec3], y: &[Vec3], mask: &[bool]) -> f64 {
+    let (mut sum, mut n) = (0.0, 0usize);
+    for ((a, b), _) in x.iter().zip(y).zip(mask).filter(|(_, m)| **m) {
+        let d = (*a - *b) * (*a - *b) / (*b * *b + Vec3::splat(0.01));
+        sum += f64::from(d.x + d.y + d.z);
+        n += 3;
+    }
+    if n == 0 { 0.0 } else { sum / n as f64 }
+}
+
+/// The mean of all channels over the pixels where `mask` is true.
+#[allow(dead_code)]
+pub fn masked_mean(x: &[Vec3], mask: &[bool]) -> f64 {
+    let (mut sum, mut n) = (0.0, 0usize);
+    for (p, _) in x.iter().zip(mask).filter(|(_, m)| **m) {
+        sum += f64::from(p.x + p.y + p.z);
+        n += 3;
+    }
+    if n == 0 { 0.0 } else { sum / n as f64 }
+}
+
+/// `mask` (`width` pixels a row) less every pixel with a 4-neighbour outside it or on the
+/// image's border: pixels whose whole footprint (under any sub-pixel jitter) is inside.
+#[allow(dead_code)]
+pub fn erode(mask: &[bool], width: usize) -> Vec<bool> {
+    let height = mask.len() / width;
+    (0..mask.len())
+        .map(|i| {
+            let (x, y) = (i % width, i / width);
+            x > 0
+                && y > 0
+                && x + 1 < width
+                && y + 1 < height
+                && [i, i - 1, i + 1, i - width, i + width]
+                    .iter()
+                    .all(|&j| mask[j])
+        })
+        .collect()
 }
