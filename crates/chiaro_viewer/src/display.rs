@@ -103,10 +103,14 @@ impl Display {
             config.format,
             egui_wgpu::RendererOptions::default(),
         );
+        let mut renderer = Renderer::new(context);
+        // An edit that brings a feature the scene did not use compiles its pipelines on other
+        // threads while the old ones render: the window never stalls on it.
+        renderer.compile_in_background(true);
         Ok(Self {
             surface,
             config,
-            renderer: Renderer::new(context),
+            renderer,
             painter,
             frame_texture: None,
             debug: None,
