@@ -7,7 +7,11 @@
 // variance). The colour is the demodulated lighting; the variance in alpha is filtered with
 // the squared weights, as the variance of a weighted mean.
 //
-// Pixels that are not a covered, shading surface pass through.
+// Pixels that are not a covered, shading surface pass through. On smooth metals the taps around
+// the centre weigh less, down to none on a mirror: their lighting is the reflected image, which
+// the filter would blur, and the spatial blur of a specular signal is scaled by the width of its
+// lobe (as REBLUR does: Zhdan, "ReBLUR: A Hierarchical Recurrent Denoiser", Ray Tracing Gems II,
+// 2021, chapter 49); the temporal accumulation alone denoises them.
 
 #import lib/generated.wgsl
 #import lib/float.wgsl
@@ -17,6 +21,21 @@
 @group(0) @binding(1) var input: texture_2d<f32>;
 @group(0) @binding(2) var edges: texture_2d<f32>;
 @group(0) @binding(3) var output: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(4) var gbuffer_position: texture_2d<u32>;
+@group(0) @binding(5) var gbuffer_surface: texture_2d<u32>;
+
+// Roughness at and above which a metal is filtered fully.
+const SPECULAR_FULL_FILTER_ROUGHNESS: f32 = 0.5;
+
+// The weight of the taps around pixel p relative to SVGF's: 1 for dielectrics (mostly diffuse
+// light) and rough metals, (roughness / SPECULAR_FULL_FILTER_ROUGHNESS)^2 below it on metals
+// (the GGX lobe's width is roughness^2), mixed by metallic.
+fn filter_spread(p: vec2<i32>) -> f32 {
+    let roughness = bitcast<f32>(textureLoad(gbuffer_position, p, 0).w);
+    let metallic = unpack2x16unorm(textureLoad(gbuffer_surface, p, 0).w).y;
+    let r = clamp(roughness / SPECULAR_FULL_FILTER_ROUGHNESS, 0.0, 1.0);
+    return mix(1.0, r * r, metallic);
+}
 
 // B3-spline weight of the tap `i` taps from the centre (0, 1 or 2).
 fn kernel(i: i32) -> f32 {
@@ -61,6 +80,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let l_p = luminance(centre.xyz);
     let sigma = params.sigma_luminance * sqrt(max(prefiltered_variance(p, size), 0.0));
     let step = i32(params.step);
+    let spread = filter_spread(p);
     let w_centre = kernel(0) * kernel(0);
     var sum_w = w_centre;
     var sum_c = w_centre * centre.xyz;
@@ -77,7 +97,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             }
             let c_q = textureLoad(input, q, 0);
             let e_q = denoise_edge_decode(textureLoad(edges, q, 0));
-            let w = kernel(abs(x)) * kernel(abs(y))
+            let w = spread * kernel(abs(x)) * kernel(abs(y))
                 * denoise_weight(e_p, e_q, vec2<f32>(offset), l_p, luminance(c_q.xyz), sigma, params);
             sum_w += w;
             sum_c += w * c_q.xyz;

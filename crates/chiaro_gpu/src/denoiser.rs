@@ -165,6 +165,7 @@ impl Denoiser {
             device,
             binding(0),
             [&filtered.view, &edges.view, &color_history.view],
+            targets,
         );
         let later_groups = (1..MAX_ATROUS_ITERATIONS)
             .map(|i| {
@@ -173,8 +174,14 @@ impl Denoiser {
                 } else {
                     &ping[(i - 1) % 2].view
                 };
-                let group =
-                    |out| atrous.bind_group(device, binding(i as u64), [input, &edges.view, out]);
+                let group = |out| {
+                    atrous.bind_group(
+                        device,
+                        binding(i as u64),
+                        [input, &edges.view, out],
+                        targets,
+                    )
+                };
                 [group(&ping[i % 2].view), group(&output.view)]
             })
             .collect();

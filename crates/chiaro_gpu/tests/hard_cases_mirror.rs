@@ -9,11 +9,12 @@
 //!   - the realtime frame's paths (denoiser off, 16 paths, one frame) against the CPU
 //!     reference of the same depth (bounce cap 2: depth 3): relMSE 9.3e-2 on the mirror,
 //!     below 3 x noise = 1.9e-1;
-//!   - the denoised realtime frame (32 frames) against that reference: relMSE 2.0e-1 on the
-//!     mirror against 6.3e-2 to 7.3e-2 on the floor, while its own noise on the mirror is
-//!     1.6e-2: a bias of the denoiser, which filters the mirror's reflected light (indirect
-//!     light of a smooth, curved surface) with the mirror's own smooth depth and normals and so
-//!     blurs the reflected image. Reported, and held below 0.3 as a regression guard.
+//!   - the denoised realtime frame (32 frames) against that reference: relMSE 9.0e-2 and
+//!     5.2e-2 on the mirror (two seeds) against 6.3e-2 and 7.3e-2 on the floor; asserted: the
+//!     mean of the two below 0.12. The a-trous filter leaves smooth metals alone
+//!     (`shaders/atrous.wgsl`); when it filtered them like any surface, with the mirror's own
+//!     smooth depth and normals, it blurred the reflected image: relMSE 2.0e-1 on the mirror,
+//!     while the frame's own noise there was 1.6e-2.
 //! - A rough metal (base colour 1, roughness 1) in a white furnace loses only what
 //!   single-scattering GGX loses: a sphere of it alone under a constant environment of
 //!   radiance 1 (not `builtin:furnace`, whose emitting shell would darken near the sphere), so
@@ -131,7 +132,8 @@ fn the_roughness_0_sphere_is_a_clean_mirror() {
         3.0 * noise
     );
 
-    // The denoised realtime frame: measured, and held below the regression guard.
+    // The denoised realtime frame: the reflected image stays sharp.
+    let mut mean = 0.0;
     for seed in [1, 2] {
         let out = renderer
             .render(
@@ -145,11 +147,9 @@ fn the_roughness_0_sphere_is_a_clean_mirror() {
             "denoised realtime, seed {seed}: relMSE against depth 3 on the mirror \
              {on_mirror:.3e}, on the floor {on_floor:.3e}"
         );
-        assert!(
-            on_mirror < 0.3,
-            "denoised realtime: mirror relMSE {on_mirror}"
-        );
+        mean += on_mirror / 2.0;
     }
+    assert!(mean < 0.12, "denoised realtime: mirror relMSE {mean}");
 }
 
 /// The directional albedo of `params` seen from `cos_o`: the integral of f cos over the

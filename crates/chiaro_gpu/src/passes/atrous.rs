@@ -22,6 +22,8 @@ impl AtrousPass {
             e(1, float()),
             e(2, float()),
             e(3, storage_texture(HDR_FORMAT)),
+            e(4, texture(S::Uint)),
+            e(5, texture(S::Uint)),
         ];
         Ok(Self {
             stage: ComputeStage::new(device, "atrous", &entries)?,
@@ -29,12 +31,14 @@ impl AtrousPass {
     }
 
     /// The bind group of one iteration: its uniform (with its step), the input (colour and
-    /// variance), the edge data and the output.
+    /// variance), the edge data, the output, and the G-buffer's position and surface targets
+    /// (roughness and metallic).
     pub fn bind_group(
         &self,
         device: &wgpu::Device,
         params: wgpu::BufferBinding<'_>,
         views: [&wgpu::TextureView; 3],
+        targets: &FrameTargets,
     ) -> wgpu::BindGroup {
         let [input, edges, output] = views;
         self.stage.bind_group(
@@ -44,6 +48,8 @@ impl AtrousPass {
                 view(input),
                 view(edges),
                 view(output),
+                view(&targets.position.view),
+                view(&targets.surface.view),
             ],
         )
     }
