@@ -33,6 +33,12 @@ const BVH_NO_HIT: u32 = 0xffffffffu;
 var<private> bvh_tlas_stack: array<vec2<u32>, BVH_STACK_SIZE>;
 var<private> bvh_blas_stack: array<vec2<u32>, BVH_STACK_SIZE>;
 
+// Traversal steps of this invocation's rays so far: one per TLAS node visited, BLAS node
+// visited and triangle tested (the viewer's traversal heatmap resets it, traces a ray and
+// reads it). A shader that never reads it pays nothing: its increments are stores to a private
+// variable nobody loads, which the driver's compiler removes.
+var<private> bvh_steps: u32;
+
 // The points origin + t direction for t in (t_min, t_max); the direction need not be unit.
 struct Ray {
     origin: vec3<f32>,
@@ -230,6 +236,7 @@ fn bvh_trace_instance(
             let offset = firstLeadingBit(triangle_group.y);
             triangle_group.y &= ~(1u << offset);
             let tri = bvh_triangles[triangle_group.x + offset];
+            bvh_steps += 1u;
             let h = watertight_intersect(watertight, tri.v0, tri.v1, tri.v2, t_min, *t_max);
             if h.found && hit_accepted(instance, tri.triangle, vec2<f32>(h.b1, h.b2)) {
                 (*best).t = h.t;
@@ -254,6 +261,7 @@ fn bvh_trace_instance(
             let slot = (slot_bit - 24u) ^ (node_ray.oct_inv4 & 0xffu);
             let rank = countOneBits(hits & ~(0xffffffffu << slot));
             let node = bvh_blas_nodes[group.x + rank];
+            bvh_steps += 1u;
             let mask = bvh_intersect_node(node, node_ray, t_min, *t_max);
             group = vec2<u32>(node.child_base_idx, (mask & 0xff000000u) | ((node.e_imask >> 24u) & 0xffu));
             triangle_group = vec2<u32>(node.primitive_base_idx, mask & 0x00ffffffu);
@@ -296,6 +304,7 @@ fn bvh_trace(ray: Ray, t_max_in: f32, any_hit: bool) -> Hit {
     var index = 0u;
     loop {
         let node = bvh_tlas_nodes[index];
+        bvh_steps += 1u;
         if (node.child & TLAS_LEAF_BIT) != 0u {
             let instance = node.child & ~TLAS_LEAF_BIT;
             if instance < arrayLength(&bvh_instances) && bvh_trace_instance(ray, instance, &t_max, &best, any_hit) {

@@ -281,6 +281,12 @@ impl Frame {
         self.features
     }
 
+    /// The camera uniform (a [`GpuCamera`]) the last frame rendered with, jitter included
+    /// (for debug views that trace the frame's camera rays).
+    pub fn camera(&self) -> &wgpu::Buffer {
+        &self.camera
+    }
+
     /// The realtime mode's denoiser (its history and output, for tests and debug views).
     pub fn denoiser(&self) -> &Denoiser {
         &self.denoiser

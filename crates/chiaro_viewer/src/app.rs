@@ -8,6 +8,7 @@ use std::time::Instant;
 use bevy_ecs::hierarchy::ChildOf;
 use bevy_ecs::prelude::*;
 use bevy_ecs::system::RunSystemOnce;
+use chiaro_gpu::gpu_scene::GpuScene;
 use chiaro_gpu::timing::PassTimes;
 use chiaro_gpu::{FrameSettings, RenderSettings};
 use chiaro_scene::transform::propagate_transforms;
@@ -335,9 +336,12 @@ impl App {
             }
         }
         let depth_scale = 0.5 * self.extent;
-        if let Err(e) =
-            display.update_frame_texture(self.view, eye, depth_scale, self.render_scale < 1.0)
-        {
+        let scene = self.world.get_resource::<GpuScene>();
+        let shown = scene.map_or(Ok(()), |scene| {
+            let upscaled = self.render_scale < 1.0;
+            display.update_frame_texture(scene, self.view, eye, depth_scale, upscaled)
+        });
+        if let Err(e) = shown {
             eprintln!("chiaro view: {e}");
             self.message = Some(e.to_string());
             self.view = DebugView::Frame;

@@ -1,12 +1,16 @@
 //! Debug views: one compute pass (`shaders/debug_view.wgsl`) that turns a part of the frame
 //! (G-buffer base colour, normals, distance, motion, instance ids; this frame's direct and raw
 //! indirect light; the denoiser's filtered lighting, variance and history length) into an
-//! 8-bit image the window shows instead of the frame.
+//! 8-bit image the window shows instead of the frame; and the BVH traversal heatmap, which
+//! traces the scene and has a pass of its own ([`crate::traversal_view`]).
 
 use bytemuck::{Pod, Zeroable};
 use chiaro_gpu::ShaderError;
 use chiaro_gpu::frame::Frame;
+use chiaro_gpu::gpu_scene::GpuScene;
 use glam::Vec3;
+
+use crate::traversal_view::TraversalPass;
 
 /// The viewer's own shader, composed with chiaro's shader library.
 const SHADER_NAME: &str = "viewer/debug_view.wgsl";
@@ -38,11 +42,14 @@ pub enum DebugView {
     Variance,
     /// The denoiser's history length in frames, as a linear grey: length / 32 (white from 32).
     History,
+    /// BVH traversal steps of each pixel's camera ray, as a heatmap
+    /// ([`crate::traversal_view`]).
+    Traversal,
 }
 
 impl DebugView {
     /// Every view, in the order of their shader indices.
-    pub const ALL: [DebugView; 11] = [
+    pub const ALL: [DebugView; 12] = [
         DebugView::Frame,
         DebugView::Albedo,
         DebugView::Normal,
@@ -54,6 +61,7 @@ impl DebugView {
         DebugView::Filtered,
         DebugView::Variance,
         DebugView::History,
+        DebugView::Traversal,
     ];
 
     /// The view's name (in the panel and in scripts).
@@ -70,6 +78,7 @@ impl DebugView {
             DebugView::Filtered => "filtered",
             DebugView::Variance => "variance",
             DebugView::History => "history",
+            DebugView::Traversal => "traversal",
         }
     }
 
@@ -114,6 +123,8 @@ pub struct DebugPass {
     layout: wgpu::BindGroupLayout,
     params: wgpu::Buffer,
     output: Option<(wgpu::Texture, wgpu::TextureView)>,
+    /// Made when the traversal view is first shown (its shader traces rays: slower to compile).
+    traversal: Option<TraversalPass>,
 }
 
 fn texture_entry(binding: u32, sample_type: wgpu::TextureSampleType) -> wgpu::BindGroupLayoutEntry {
@@ -197,6 +208,7 @@ impl DebugPass {
             layout,
             params,
             output: None,
+            traversal: None,
         })
     }
 
@@ -205,17 +217,20 @@ impl DebugPass {
         self.output.as_ref().map(|(t, _)| t)
     }
 
-    /// Renders `view` of `frame` seen from `eye` (`depth_scale`: the distance shown as mid
-    /// grey) and returns the image (the size of the frame).
+    /// Renders `view` of `frame` (of `scene`) seen from `eye` (`depth_scale`: the distance
+    /// shown as mid grey) and returns the image (the size of the frame); fails only when the
+    /// traversal view's shader, made on its first use, does not compose.
+    #[allow(clippy::too_many_arguments)]
     pub fn run(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         frame: &Frame,
+        scene: &GpuScene,
         view: DebugView,
         eye: Vec3,
         depth_scale: f32,
-    ) -> (&wgpu::Texture, &wgpu::TextureView) {
+    ) -> Result<(&wgpu::Texture, &wgpu::TextureView), ShaderError> {
         let targets = &frame.targets;
         let size = (targets.width, targets.height);
         let stale = self
@@ -244,6 +259,19 @@ impl DebugPass {
                 ..Default::default()
             });
             self.output = Some((texture, texture_view));
+        }
+        if view == DebugView::Traversal {
+            if self.traversal.is_none() {
+                self.traversal = Some(TraversalPass::new(device, queue, scene)?);
+            }
+            let pass = self.traversal.as_ref().expect("made above");
+            let (texture, output) = self.output.as_ref().expect("made above");
+            let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("traversal view"),
+            });
+            pass.record(device, &mut encoder, scene, frame.camera(), output, size);
+            queue.submit([encoder.finish()]);
+            return Ok((texture, output));
         }
         let params = DebugParams {
             view: view.index(),
@@ -300,7 +328,7 @@ impl DebugPass {
             pass.dispatch_workgroups(size.0.div_ceil(8), size.1.div_ceil(8), 1);
         }
         queue.submit([encoder.finish()]);
-        (texture, output)
+        Ok((texture, output))
     }
 }
 

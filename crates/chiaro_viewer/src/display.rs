@@ -6,6 +6,7 @@
 use std::sync::Arc;
 
 use chiaro_gpu::context::missing_capabilities;
+use chiaro_gpu::gpu_scene::GpuScene;
 use chiaro_gpu::{GpuContext, Renderer};
 use glam::Vec3;
 use winit::event_loop::OwnedDisplayHandle;
@@ -136,10 +137,12 @@ impl Display {
 
     /// Points the frame's egui texture at what the window shows: the renderer's current 8-bit
     /// image (remade when the frame is resized or the scene replaced), or `view` of it seen
-    /// from `eye` (`depth_scale`: the distance the depth view shows as mid grey); `upscaled`:
-    /// the image is smaller than its place in the window (filtered bilinearly, else nearest).
+    /// from `eye` (`depth_scale`: the distance the depth view shows as mid grey; `scene`: the
+    /// frame's scene, traced by the traversal view); `upscaled`: the image is smaller than its
+    /// place in the window (filtered bilinearly, else nearest).
     pub fn update_frame_texture(
         &mut self,
+        scene: &GpuScene,
         view: DebugView,
         eye: Vec3,
         depth_scale: f32,
@@ -157,7 +160,9 @@ impl Display {
                 self.debug = Some(pass);
             }
             let pass = self.debug.as_mut().expect("made above");
-            pass.run(device, queue, frame, view, eye, depth_scale).1
+            pass.run(device, queue, frame, scene, view, eye, depth_scale)
+                .map_err(|e| ViewerError::Gpu(e.to_string()))?
+                .1
         };
         self.showing_debug = view != DebugView::Frame;
         let filter = if upscaled {

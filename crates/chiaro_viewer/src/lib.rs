@@ -43,6 +43,7 @@ mod inspector;
 mod panel;
 pub mod script;
 pub mod selection;
+pub mod traversal_view;
 
 use std::path::PathBuf;
 

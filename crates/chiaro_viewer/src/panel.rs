@@ -51,6 +51,9 @@ pub fn settings(
                 ui.selectable_value(view, v, v.name());
             }
         });
+    if *view == DebugView::Traversal {
+        crate::traversal_view::legend(ui);
+    }
     egui::ComboBox::from_label("mode")
         .selected_text(settings.mode.name())
         .show_ui(ui, |ui| {

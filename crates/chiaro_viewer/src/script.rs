@@ -6,7 +6,8 @@
 //! panel off            # hide (or `panel on`: show) the side panel
 //! scale 0.5            # render at half the window's resolution (in (0, 1]; 1 by default)
 //! view normal          # show a debug view (albedo normal depth motion direct indirect
-//!                      # instances filtered variance history; `view frame`: the frame)
+//!                      # instances filtered variance history traversal; `view frame`:
+//!                      # the frame)
 //! frames 8             # render 8 frames
 //! key W 10             # hold W for 10 frames (keys: W A S D Q E, SHIFT+W etc. for fast)
 //! look 40 -10          # turn the view as a mouse motion of (40, -10) pixels would
