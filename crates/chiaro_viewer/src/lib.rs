@@ -43,6 +43,8 @@ mod inspector;
 mod panel;
 pub mod script;
 pub mod selection;
+#[cfg(test)]
+mod shader_check;
 pub mod traversal_view;
 
 use std::path::PathBuf;

@@ -212,20 +212,10 @@ mod tests {
     #[test]
     fn the_shader_composes_and_validates() {
         let source = shader_source().unwrap();
-        let module = naga::front::wgsl::parse_str(&source).unwrap();
-        naga::valid::Validator::new(
-            naga::valid::ValidationFlags::all(),
-            naga::valid::Capabilities::default(),
-        )
-        .validate(&module)
-        .unwrap();
-        let size = module
-            .types
-            .iter()
-            .find(|(_, t)| t.name.as_deref() == Some("TraversalParams"))
-            .map(|(_, t)| t.inner.size(module.to_ctx()))
-            .unwrap();
-        assert_eq!(size as usize, std::mem::size_of::<TraversalParams>());
+        assert_eq!(
+            crate::shader_check::struct_size(&source, "TraversalParams"),
+            std::mem::size_of::<TraversalParams>()
+        );
         assert!(source.contains(&format!("HEAT_STOP_COUNT: u32 = {}u", HEAT_STOPS.len())));
     }
 
