@@ -116,6 +116,20 @@ fn view(x: &Xvfb, args: &[&str]) -> Option<Output> {
     Some(out)
 }
 
+/// `chiaro render ARGS --out OUT` (an .exr), which must succeed, and the image it wrote.
+fn headless_render(args: &[&str], out: &Path) -> Vec<glam::Vec3> {
+    let mut all = vec!["render"];
+    all.extend_from_slice(args);
+    all.extend(["--out", out.to_str().unwrap()]);
+    let render = chiaro(&all);
+    assert!(
+        render.status.success(),
+        "{}",
+        String::from_utf8_lossy(&render.stderr)
+    );
+    read_exr(out).unwrap().2
+}
+
 fn temp_dir(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("chiaro_viewer_{name}_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -197,25 +211,12 @@ fn scripted_window_matches_the_headless_render() {
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(stdout.contains("still.exr (96x96)"), "{stdout}");
 
-    let headless = dir.join("headless.exr");
-    let render = chiaro(&[
-        "render",
-        "builtin:cornell",
-        "--size",
-        "96x96",
-        "--frames",
-        "8",
-        "--out",
-        headless.to_str().unwrap(),
-    ]);
-    assert!(
-        render.status.success(),
-        "{}",
-        String::from_utf8_lossy(&render.stderr)
+    let reference = headless_render(
+        &["builtin:cornell", "--size", "96x96", "--frames", "8"],
+        &dir.join("headless.exr"),
     );
     let (w, h, window) = read_exr(&still).unwrap();
     assert_eq!((w, h), (96, 96));
-    let (_, _, reference) = read_exr(&headless).unwrap();
     let error = rel_mse(&window, &reference, 0.01);
     eprintln!("window against headless: relMSE {error:.3e}");
     assert!(error < 1e-3, "relMSE {error}");
@@ -335,27 +336,20 @@ fn dropped_scene_and_environment_render_like_the_cli() {
     ) else {
         return;
     };
-    let headless = dir.join("headless.exr");
-    let render = chiaro(&[
-        "render",
-        glb.to_str().unwrap(),
-        "--env",
-        hdr.to_str().unwrap(),
-        size[0],
-        size[1],
-        "--frames",
-        "4",
-        "--out",
-        headless.to_str().unwrap(),
-    ]);
-    assert!(
-        render.status.success(),
-        "{}",
-        String::from_utf8_lossy(&render.stderr)
+    let reference = headless_render(
+        &[
+            glb.to_str().unwrap(),
+            "--env",
+            hdr.to_str().unwrap(),
+            size[0],
+            size[1],
+            "--frames",
+            "4",
+        ],
+        &dir.join("headless.exr"),
     );
     let (w, h, window) = read_exr(&shot).unwrap();
     assert_eq!((w, h), (64, 48));
-    let (_, _, reference) = read_exr(&headless).unwrap();
     let error = rel_mse(&window, &reference, 0.01);
     eprintln!("dropped scene against headless: relMSE {error:.3e}");
     assert!(error < 1e-3, "relMSE {error}");
