@@ -108,13 +108,7 @@ const MOTION_SCALE: f32 = 8.0;
 
 /// The debug view shader, composed (its `#import`s resolved from chiaro's shader library).
 pub fn shader_source() -> Result<String, ShaderError> {
-    chiaro_gpu::shaders::compose_with(SHADER_NAME, &|name| {
-        if name == SHADER_NAME {
-            Some(SHADER.to_string())
-        } else {
-            chiaro_gpu::shaders::source(name)
-        }
-    })
+    crate::compose_shader(SHADER_NAME, SHADER)
 }
 
 /// The pass and its output image.

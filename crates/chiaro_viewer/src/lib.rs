@@ -127,3 +127,15 @@ pub fn run(world: World, options: ViewerOptions) -> Result<(), ViewerError> {
         None => Ok(()),
     }
 }
+
+/// The viewer's own shader `name` (source `text`), its `#import`s resolved from chiaro's shader
+/// library.
+fn compose_shader(name: &str, text: &str) -> Result<String, chiaro_gpu::ShaderError> {
+    chiaro_gpu::shaders::compose_with(name, &|wanted| {
+        if wanted == name {
+            Some(text.to_owned())
+        } else {
+            chiaro_gpu::shaders::source(wanted)
+        }
+    })
+}

@@ -73,13 +73,7 @@ struct TraversalParams {
 
 /// The traversal heatmap's shader, composed.
 pub fn shader_source() -> Result<String, ShaderError> {
-    chiaro_gpu::shaders::compose_with(SHADER_NAME, &|name| {
-        if name == SHADER_NAME {
-            Some(SHADER.to_string())
-        } else {
-            chiaro_gpu::shaders::source(name)
-        }
-    })
+    crate::compose_shader(SHADER_NAME, SHADER)
 }
 
 /// The pass: group(0) is the scene's, group(1) the camera, the parameters and the image.
