@@ -9,7 +9,9 @@
 // emission, the environment and the albedo at silhouettes alias from frame to frame, and the
 // colour is averaged over frames along the motion vectors, its history clamped to the 3 x 3
 // neighbourhood of this frame's colours so that what moved leaves no ghost (temporal
-// anti-aliasing: Karis, "High Quality Temporal Supersampling", SIGGRAPH 2014 course). Non-finite
+// anti-aliasing: Karis, "High Quality Temporal Supersampling", SIGGRAPH 2014 course); under
+// motion the history of other surfaces is left out, so that a bright emitter's does not smear
+// onto its dark surroundings. Non-finite
 // radiance never enters the sum or the history (DESIGN.md: tested by exponent bits).
 
 #import lib/generated.wgsl
@@ -41,6 +43,13 @@ struct CompositeParams {
 @group(0) @binding(9) var gbuffer_motion: texture_2d<u32>;
 @group(0) @binding(10) var<storage, read> resolve_previous: array<vec4<f32>>;
 @group(0) @binding(11) var<storage, read_write> resolve_next: array<vec4<f32>>;
+@group(0) @binding(12) var<storage, read> resolve_previous_surface: array<u32>;
+@group(0) @binding(13) var<storage, read_write> resolve_next_surface: array<u32>;
+
+// The surface a pixel sees: its instance + 1, or 0 where it sees none.
+fn resolve_surface(pixel: vec2<i32>) -> u32 {
+    return textureLoad(gbuffer_emission, pixel, 0).w & ~GBUFFER_SHADES;
+}
 
 // This frame's radiance at a pixel.
 fn frame_radiance(pixel: vec2<i32>) -> vec3<f32> {
@@ -69,9 +78,16 @@ fn finite_radiance(pixel: vec2<i32>) -> vec3<f32> {
     return select(vec3<f32>(0.0), x, vec3_is_finite(x));
 }
 
+// Motion, in pixels per frame, from which the history of other surfaces is left out entirely.
+const RESOLVE_OTHER_SURFACE_MOTION: f32 = 0.1;
+
 // The resolve's history at the previous frame's position `at` (pixel units, texel centres at
-// integer + 0.5): bilinear over the taps inside the image, renormalised; w = -1 if none is.
-fn resolve_history(at: vec2<f32>, size: vec2<i32>) -> vec4<f32> {
+// integer + 0.5): bilinear over the taps inside the image, renormalised; w = -1 if none is
+// left. Taps that saw another surface than `surface` weigh `other` (1 on a still view, where
+// the jitter moves a pixel's sample across silhouettes and the history averages them; down to 0
+// as the view moves, so that one surface's history does not bleed into another's, as a bright
+// emitter's would into the dark ceiling around it).
+fn resolve_history(at: vec2<f32>, size: vec2<i32>, surface: u32, other: f32) -> vec4<f32> {
     let f = at - 0.5;
     let base = vec2<i32>(floor(f));
     let t = f - floor(f);
@@ -82,8 +98,10 @@ fn resolve_history(at: vec2<f32>, size: vec2<i32>) -> vec4<f32> {
         let q = base + o;
         let w = select(1.0 - t.x, t.x, o.x == 1) * select(1.0 - t.y, t.y, o.y == 1);
         if all(q >= vec2<i32>(0)) && all(q < size) && w > 0.0 {
-            sum += w * resolve_previous[u32(q.y) * u32(size.x) + u32(q.x)];
-            total += w;
+            let i = u32(q.y) * u32(size.x) + u32(q.x);
+            let w_surface = w * select(other, 1.0, resolve_previous_surface[i] == surface);
+            sum += w_surface * resolve_previous[i];
+            total += w_surface;
         }
     }
     if total <= 0.0 {
@@ -100,7 +118,9 @@ fn resolve(pixel: vec2<i32>, size: vec2<i32>, x: vec3<f32>) -> vec4<f32> {
     if (params.flags & COMPOSITE_RESET) != 0u || !valid {
         return vec4<f32>(x, 1.0);
     }
-    let history = resolve_history(vec2<f32>(pixel) + 0.5 + motion, size);
+    let other = clamp(1.0 - length(motion) / RESOLVE_OTHER_SURFACE_MOTION, 0.0, 1.0);
+    let history = resolve_history(vec2<f32>(pixel) + 0.5 + motion, size, resolve_surface(pixel),
+        other);
     if history.w < 0.0 {
         return vec4<f32>(x, 1.0);
     }
@@ -131,6 +151,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if (params.flags & COMPOSITE_RESOLVE) != 0u {
         let resolved = resolve(vec2<i32>(id.xy), vec2<i32>(size), x);
         resolve_next[index] = resolved;
+        resolve_next_surface[index] = resolve_surface(vec2<i32>(id.xy));
         textureStore(hdr_out, vec2<i32>(id.xy), vec4<f32>(resolved.xyz, 1.0));
         return;
     }

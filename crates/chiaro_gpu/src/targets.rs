@@ -87,6 +87,9 @@ pub struct FrameTargets {
     /// The realtime mode's resolved colour and its history length (one `vec4<f32>` per pixel),
     /// two of them: each frame reads one and writes the other.
     pub resolve: [wgpu::Buffer; 2],
+    /// The surface each pixel of `resolve` saw (instance + 1, 0 for none; one `u32` per pixel),
+    /// two of them like `resolve`.
+    pub resolve_surface: [wgpu::Buffer; 2],
 }
 
 impl FrameTargets {
@@ -108,20 +111,29 @@ impl FrameTargets {
             indirect: Target::new(device, "indirect light", HDR_FORMAT, size, storage),
             hdr: Target::new(device, "hdr image", HDR_FORMAT, size, storage),
             ldr: Target::new(device, "ldr image", LDR_FORMAT, size, storage),
-            accumulation: pixel_buffer(device, "accumulation", size),
+            accumulation: pixel_buffer(device, "accumulation", size, 16),
             resolve: [
-                pixel_buffer(device, "resolve history a", size),
-                pixel_buffer(device, "resolve history b", size),
+                pixel_buffer(device, "resolve history a", size, 16),
+                pixel_buffer(device, "resolve history b", size, 16),
+            ],
+            resolve_surface: [
+                pixel_buffer(device, "resolve surfaces a", size, 4),
+                pixel_buffer(device, "resolve surfaces b", size, 4),
             ],
         }
     }
 }
 
-/// A storage buffer of one `vec4<f32>` per pixel.
-fn pixel_buffer(device: &wgpu::Device, label: &str, (width, height): (u32, u32)) -> wgpu::Buffer {
+/// A storage buffer of `bytes` per pixel.
+fn pixel_buffer(
+    device: &wgpu::Device,
+    label: &str,
+    (width, height): (u32, u32),
+    bytes: u64,
+) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
-        size: u64::from(width) * u64::from(height) * 16,
+        size: u64::from(width) * u64::from(height) * bytes,
         usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     })

@@ -70,6 +70,8 @@ impl CompositePass {
             e(9, texture(S::Uint)),
             e(10, storage(true)),
             e(11, storage(false)),
+            e(12, storage(true)),
+            e(13, storage(false)),
         ];
         Ok(Self {
             stage: ComputeStage::new(device, "composite", &entries)?,
@@ -101,6 +103,8 @@ impl CompositePass {
                 view(&targets.motion.view),
                 targets.resolve[parity].as_entire_binding(),
                 targets.resolve[1 - parity].as_entire_binding(),
+                targets.resolve_surface[parity].as_entire_binding(),
+                targets.resolve_surface[1 - parity].as_entire_binding(),
             ],
         )
     }
