@@ -1,11 +1,13 @@
-//! The Rust records of the scene buffers and the WGSL structs that mirror them have the same
-//! size and the same field offsets, read from the WGSL through naga's layouter; the scene's
-//! own WGSL modules validate.
+//! The Rust records of the scene buffers, and the direct and indirect passes' uniforms, and the
+//! WGSL structs that mirror them have the same size and the same field offsets, read from the
+//! WGSL through naga's layouter; the scene's own WGSL modules validate.
 
 use std::mem::{offset_of, size_of};
 
 use chiaro_bvh::{BvhTriangle, GpuInstance, TlasNode};
 use chiaro_gpu::gpu_scene::layout::*;
+use chiaro_gpu::passes::direct::DirectParams;
+use chiaro_gpu::passes::indirect::IndirectParams;
 use chiaro_gpu::shaders;
 
 /// A WGSL struct: name, size, (member name, offset) in order.
@@ -180,6 +182,54 @@ fn scene_records_match_their_wgsl_structs() {
             material,
             mesh_magnitude
         ]
+    );
+}
+
+/// The WGSL struct `wgsl` has `size` bytes and the named members at the given offsets (padding,
+/// an array in Rust and single words in WGSL, is named by its first word).
+fn check_fields(structs: &[WgslStruct], wgsl: &str, size: usize, fields: &[(&str, usize)]) {
+    let (_, wgsl_size, members) = structs
+        .iter()
+        .find(|(n, _, _)| n == wgsl)
+        .unwrap_or_else(|| panic!("no WGSL struct {wgsl}"));
+    assert_eq!(*wgsl_size as usize, size, "size of {wgsl}");
+    for &(name, rust) in fields {
+        let offset = members.iter().find(|(n, _)| n == name).map(|m| m.1);
+        assert_eq!(offset, Some(rust as u32), "{wgsl}.{name}");
+    }
+}
+
+#[test]
+fn pass_params_match_their_wgsl_structs() {
+    check_fields(
+        &wgsl_structs("indirect.wgsl"),
+        "IndirectParams",
+        size_of::<IndirectParams>(),
+        &[
+            ("frame", offset_of!(IndirectParams, frame)),
+            ("seed_lo", offset_of!(IndirectParams, seed_lo)),
+            ("seed_hi", offset_of!(IndirectParams, seed_hi)),
+            ("spp", offset_of!(IndirectParams, spp)),
+            ("bounces", offset_of!(IndirectParams, bounces)),
+            ("naive", offset_of!(IndirectParams, naive)),
+            ("poison", offset_of!(IndirectParams, poison)),
+            ("light_sampling", offset_of!(IndirectParams, light_sampling)),
+            ("firefly_clamp", offset_of!(IndirectParams, firefly_clamp)),
+            ("pad0", offset_of!(IndirectParams, pad)),
+        ],
+    );
+    check_fields(
+        &wgsl_structs("direct.wgsl"),
+        "DirectParams",
+        size_of::<DirectParams>(),
+        &[
+            ("frame", offset_of!(DirectParams, frame)),
+            ("seed_lo", offset_of!(DirectParams, seed_lo)),
+            ("seed_hi", offset_of!(DirectParams, seed_hi)),
+            ("lights", offset_of!(DirectParams, lights)),
+            ("light_sampling", offset_of!(DirectParams, light_sampling)),
+            ("pad0", offset_of!(DirectParams, pad)),
+        ],
     );
 }
 
