@@ -41,8 +41,9 @@ use chiaro_gpu::{FrameSettings, GbufferImage, RenderMode, Renderer};
 use chiaro_reference::PathSettings;
 use chiaro_scene::builtin::HARD_CASES;
 use chiaro_scene::{ActiveCamera, GlobalTransform, load_scene};
+use common::masked_rel_mse;
 use glam::Vec3;
-use hard_cases_common::{cpu_reference, masked_rel_mse, mode, settings, view_case};
+use hard_cases_common::{cpu_reference, mode, settings, view_case};
 
 /// Pixels where two instances meet (see the file's doc), `width` pixels a row; for the
 /// grazing case, every pixel of the plane. Silhouette pixels (another instance or nothing in

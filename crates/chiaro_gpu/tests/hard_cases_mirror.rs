@@ -38,8 +38,9 @@ use chiaro_scene::{
     Camera, Environment, Material, Node, Projection, SceneBuilder, Transform, load_scene,
 };
 use chiaro_shading::brdf::{self, SurfaceParams};
+use common::masked_rel_mse;
 use glam::Vec3;
-use hard_cases_common::{cpu_reference, erode, masked_mean, masked_rel_mse, mode, settings};
+use hard_cases_common::{cpu_reference, erode, masked_mean, mode, settings};
 
 /// Centre of the metallic, roughness-0 sphere of the spheres case (its radius is 0.5).
 const MIRROR_CENTER: Vec3 = Vec3::new(-1.8, 0.5, -1.5);

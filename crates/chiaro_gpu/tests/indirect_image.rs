@@ -153,38 +153,14 @@ fn gpu_images(
     Some([render(1), render(2)])
 }
 
-/// relMSE over the pixels where `keep` holds.
-fn rel_mse_where(x: &[Vec3], y: &[Vec3], keep: &[bool]) -> f64 {
-    let (x, y): (Vec<Vec3>, Vec<Vec3>) = x
-        .iter()
-        .zip(y)
-        .zip(keep)
-        .filter(|(_, k)| **k)
-        .map(|(p, _)| p)
-        .unzip();
-    common::rel_mse(&x, &y)
-}
-
-/// The pixels a comparison trusts: all but the `TRIMMED` fraction whose reference halves
-/// disagree most (fireflies of the reference: a path that finds the sun after a glossy
-/// bounce makes one pixel's halves differ by orders of magnitude, and its relMSE then says
-/// nothing of the GPU's).
+/// Fraction of pixels a comparison leaves out: those whose reference halves disagree most
+/// (`common::trusted_pixels`).
 const TRIMMED: f64 = 0.01;
 
+/// The pixels a comparison against `reference` trusts.
 fn trusted(reference: &Reference) -> Vec<bool> {
-    let disagreement: Vec<f64> = reference.halves[0]
-        .iter()
-        .zip(&reference.halves[1])
-        .zip(&reference.image)
-        .map(|((a, b), y)| {
-            let d = (*a - *b) * (*a - *b) / (*y * *y + Vec3::splat(0.01));
-            f64::from(d.x + d.y + d.z)
-        })
-        .collect();
-    let mut sorted = disagreement.clone();
-    sorted.sort_by(f64::total_cmp);
-    let cut = sorted[((1.0 - TRIMMED) * sorted.len() as f64) as usize - 1];
-    disagreement.iter().map(|d| *d <= cut).collect()
+    let halves = [&reference.halves[0][..], &reference.halves[1][..]];
+    common::trusted_pixels(halves, &reference.image, TRIMMED)
 }
 
 /// Trusted pixels inside the lit interior: the reference below radiance 1 over the pixel's
@@ -223,9 +199,10 @@ struct Measured {
 fn measure(name: &str, gpu: &[Vec<Vec3>; 2], reference: &Reference, factor: f64) -> Measured {
     let size = (gpu[0].len() as f64).sqrt() as usize;
     let keep = trusted(reference);
-    let error = rel_mse_where(&gpu[0], &reference.image, &keep);
-    let gpu_noise = rel_mse_where(&gpu[0], &gpu[1], &keep) / 2.0;
-    let reference_noise = rel_mse_where(&reference.halves[0], &reference.halves[1], &keep) / 4.0;
+    let error = common::masked_rel_mse(&gpu[0], &reference.image, &keep);
+    let gpu_noise = common::masked_rel_mse(&gpu[0], &gpu[1], &keep) / 2.0;
+    let reference_noise =
+        common::masked_rel_mse(&reference.halves[0], &reference.halves[1], &keep) / 4.0;
     let bound = factor * (gpu_noise + reference_noise);
     let inside = interior(reference, size, &keep);
     let (mut gpu_sum, mut ref_sum, mut variance) = (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);

@@ -93,34 +93,6 @@ fn gpu_image(
     renderer.render(&mut world(), &settings).unwrap().hdr
 }
 
-/// The pixels the comparisons trust.
-fn trusted(halves: &[Vec<Vec3>; 2], image: &[Vec3]) -> Vec<bool> {
-    let disagreement: Vec<f64> = halves[0]
-        .iter()
-        .zip(&halves[1])
-        .zip(image)
-        .map(|((a, b), y)| {
-            let d = (*a - *b) * (*a - *b) / (*y * *y + Vec3::splat(0.01));
-            f64::from(d.x + d.y + d.z)
-        })
-        .collect();
-    let mut sorted = disagreement.clone();
-    sorted.sort_by(f64::total_cmp);
-    let cut = sorted[((1.0 - TRIMMED) * sorted.len() as f64) as usize - 1];
-    disagreement.iter().map(|d| *d <= cut).collect()
-}
-
-fn rel_mse_where(x: &[Vec3], y: &[Vec3], keep: &[bool]) -> f64 {
-    let (x, y): (Vec<Vec3>, Vec<Vec3>) = x
-        .iter()
-        .zip(y)
-        .zip(keep)
-        .filter(|(_, k)| **k)
-        .map(|(p, _)| p)
-        .unzip();
-    common::rel_mse(&x, &y)
-}
-
 #[test]
 fn reference_mode_with_trees_converges_to_the_cpu_reference() {
     let (image, halves) = cpu_reference(false);
@@ -136,10 +108,10 @@ fn reference_mode_with_trees_converges_to_the_cpu_reference() {
             seed,
         )
     });
-    let keep = trusted(&halves, &image);
-    let error = rel_mse_where(&runs[0], &image, &keep);
-    let gpu_noise = rel_mse_where(&runs[0], &runs[1], &keep) / 2.0;
-    let reference_noise = rel_mse_where(&halves[0], &halves[1], &keep) / 4.0;
+    let keep = common::trusted_pixels([&halves[0], &halves[1]], &image, TRIMMED);
+    let error = common::masked_rel_mse(&runs[0], &image, &keep);
+    let gpu_noise = common::masked_rel_mse(&runs[0], &runs[1], &keep) / 2.0;
+    let reference_noise = common::masked_rel_mse(&halves[0], &halves[1], &keep) / 4.0;
     let bound = 3.0 * (gpu_noise + reference_noise);
     let (mut gpu_sum, mut ref_sum, mut variance) = (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
     for i in (0..image.len()).filter(|&i| keep[i]) {
@@ -166,10 +138,10 @@ fn trees_beat_power_sampling_at_equal_samples() {
     let (image, halves) = cpu_reference(true);
     let Some(gpu) = common::gpu() else { return };
     let mut renderer = Renderer::new(gpu);
-    let keep = trusted(&halves, &image);
+    let keep = common::trusted_pixels([&halves[0], &halves[1]], &image, TRIMMED);
     let [tree, power] = [LightSampling::Tree, LightSampling::Power].map(|sampling| {
         let gpu = gpu_image(&mut renderer, RenderMode::Direct, sampling, 16, 1, 1);
-        rel_mse_where(&gpu, &image, &keep)
+        common::masked_rel_mse(&gpu, &image, &keep)
     });
     eprintln!(
         "direct, 16 frames: relMSE tree {tree:.3e}, power {power:.3e} ({:.2}x)",

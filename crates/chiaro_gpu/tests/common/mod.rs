@@ -33,3 +33,36 @@ pub fn rel_mse(x: &[Vec3], y: &[Vec3]) -> f64 {
         .sum();
     sum / (3 * x.len()) as f64
 }
+
+/// relMSE (epsilon 0.01) over the pixels where `mask` is true; 0 for an empty mask.
+#[allow(dead_code)]
+pub fn masked_rel_mse(x: &[Vec3], y: &[Vec3], mask: &[bool]) -> f64 {
+    let (mut sum, mut n) = (0.0, 0usize);
+    for ((a, b), _) in x.iter().zip(y).zip(mask).filter(|(_, m)| **m) {
+        let d = (*a - *b) * (*a - *b) / (*b * *b + Vec3::splat(0.01));
+        sum += f64::from(d.x + d.y + d.z);
+        n += 3;
+    }
+    if n == 0 { 0.0 } else { sum / n as f64 }
+}
+
+/// The pixels a comparison against a CPU reference `image` trusts: all but the `trimmed`
+/// fraction whose two independent halves disagree most (fireflies of the reference: a path that
+/// finds a bright emitter after a glossy bounce makes one pixel's halves differ by orders of
+/// magnitude, and its relMSE then says nothing of the image compared with it).
+#[allow(dead_code)]
+pub fn trusted_pixels(halves: [&[Vec3]; 2], image: &[Vec3], trimmed: f64) -> Vec<bool> {
+    let disagreement: Vec<f64> = halves[0]
+        .iter()
+        .zip(halves[1])
+        .zip(image)
+        .map(|((a, b), y)| {
+            let d = (*a - *b) * (*a - *b) / (*y * *y + Vec3::splat(0.01));
+            f64::from(d.x + d.y + d.z)
+        })
+        .collect();
+    let mut sorted = disagreement.clone();
+    sorted.sort_by(f64::total_cmp);
+    let cut = sorted[((1.0 - trimmed) * sorted.len() as f64) as usize - 1];
+    disagreement.iter().map(|d| *d <= cut).collect()
+}

@@ -59,18 +59,6 @@ pub fn cpu_reference(
     chiaro_reference::render_world(world, &settings, false).unwrap()
 }
 
-/// relMSE (epsilon 0.01) over the pixels where `mask` is true; 0 for an empty mask.
-#[allow(dead_code)]
-pub fn masked_rel_mse(x: &[Vec3], y: &[Vec3], mask: &[bool]) -> f64 {
-    let (mut sum, mut n) = (0.0, 0usize);
-    for ((a, b), _) in x.iter().zip(y).zip(mask).filter(|(_, m)| **m) {
-        let d = (*a - *b) * (*a - *b) / (*b * *b + Vec3::splat(0.01));
-        sum += f64::from(d.x + d.y + d.z);
-        n += 3;
-    }
-    if n == 0 { 0.0 } else { sum / n as f64 }
-}
-
 /// The mean of all channels over the pixels where `mask` is true.
 #[allow(dead_code)]
 pub fn masked_mean(x: &[Vec3], mask: &[bool]) -> f64 {
