@@ -121,53 +121,23 @@ pub struct DebugPass {
     traversal: Option<TraversalPass>,
 }
 
-fn texture_entry(binding: u32, sample_type: wgpu::TextureSampleType) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Texture {
-            sample_type,
-            view_dimension: wgpu::TextureViewDimension::D2,
-            multisampled: false,
-        },
-        count: None,
-    }
-}
-
 impl DebugPass {
     /// The pass on `device`.
     pub fn new(device: &wgpu::Device) -> Result<Self, ShaderError> {
         let uint = wgpu::TextureSampleType::Uint;
         let float = wgpu::TextureSampleType::Float { filterable: false };
+        use chiaro_gpu::passes::{compute_entry as e, storage_texture, texture, uniform};
         let entries = [
-            texture_entry(0, uint),
-            texture_entry(1, uint),
-            texture_entry(2, uint),
-            texture_entry(3, uint),
-            texture_entry(4, float),
-            texture_entry(5, float),
-            wgpu::BindGroupLayoutEntry {
-                binding: 6,
-                visibility: wgpu::ShaderStages::COMPUTE,
-                ty: wgpu::BindingType::StorageTexture {
-                    access: wgpu::StorageTextureAccess::WriteOnly,
-                    format: wgpu::TextureFormat::Rgba8Unorm,
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                },
-                count: None,
-            },
-            wgpu::BindGroupLayoutEntry {
-                binding: 7,
-                visibility: wgpu::ShaderStages::COMPUTE,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            },
-            texture_entry(8, float),
-            texture_entry(9, float),
+            e(0, texture(uint)),
+            e(1, texture(uint)),
+            e(2, texture(uint)),
+            e(3, texture(uint)),
+            e(4, texture(float)),
+            e(5, texture(float)),
+            e(6, storage_texture(wgpu::TextureFormat::Rgba8Unorm)),
+            e(7, uniform()),
+            e(8, texture(float)),
+            e(9, texture(float)),
         ];
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("debug view layout"),

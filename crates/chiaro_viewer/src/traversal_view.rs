@@ -83,19 +83,6 @@ pub struct TraversalPass {
     params: wgpu::Buffer,
 }
 
-fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
 impl TraversalPass {
     /// The pass on `device`, for scenes bound with `scene`'s layout.
     pub fn new(
@@ -103,21 +90,13 @@ impl TraversalPass {
         queue: &wgpu::Queue,
         scene: &GpuScene,
     ) -> Result<Self, ShaderError> {
+        use chiaro_gpu::passes::{compute_entry as e, storage_texture, uniform};
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("traversal view layout"),
             entries: &[
-                uniform_entry(0),
-                uniform_entry(1),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 2,
-                    visibility: wgpu::ShaderStages::COMPUTE,
-                    ty: wgpu::BindingType::StorageTexture {
-                        access: wgpu::StorageTextureAccess::WriteOnly,
-                        format: wgpu::TextureFormat::Rgba8Unorm,
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                    },
-                    count: None,
-                },
+                e(0, uniform()),
+                e(1, uniform()),
+                e(2, storage_texture(wgpu::TextureFormat::Rgba8Unorm)),
             ],
         });
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
