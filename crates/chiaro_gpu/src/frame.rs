@@ -165,17 +165,15 @@ impl ScenePasses {
         self.direct
             .pipelines
             .specialize(device, features, background);
-        let mut ran = vec![
-            self.gbuffer.pipelines.features(),
-            self.direct.pipelines.features(),
-        ];
-        if input.settings.mode != RenderMode::Direct {
+        let indirect = (input.settings.mode != RenderMode::Direct).then(|| {
             self.indirect
                 .pipelines
                 .specialize(device, features, background);
-            ran.push(self.indirect.pipelines.features());
-        }
-        ran.iter().all(|f| *f == ran[0]).then_some(ran[0]).flatten()
+            self.indirect.pipelines.features()
+        });
+        let first = self.gbuffer.pipelines.features();
+        let same = self.direct.pipelines.features() == first && indirect.is_none_or(|f| f == first);
+        first.filter(|_| same)
     }
 
     /// Pipelines built so far by the three passes.

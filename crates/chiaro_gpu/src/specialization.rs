@@ -340,6 +340,9 @@ impl<P: Send + 'static> SpecializedPipelines<P> {
         features: PipelineFeatures,
         background: bool,
     ) {
+        if self.cache.current() == Some(features) && !self.cache.compiling() {
+            return; // The frame's usual case: nothing to select.
+        }
         let (device, module, layout) = (device.clone(), self.module.clone(), self.layout.clone());
         let build = self.build;
         self.cache.select(features, background, move |features| {
