@@ -332,18 +332,24 @@ pub fn upload_gpu_scene(
         put!(scene, stats, realloc, env_texels, &texels);
         put!(scene, stats, realloc, env_table, &table);
     }
-    let lights_changed =
-        !changed_lights.is_empty() || removed_lights.read().count() > 0 || bvh_changed;
-    if fresh || lights_changed {
+    let lights_edited = fresh || !changed_lights.is_empty() || removed_lights.read().count() > 0;
+    // The table also follows the scene's radius (a directional light's power); the tree, only
+    // the lights themselves.
+    let lights_changed = lights_edited || bvh_changed;
+    if lights_changed {
         let radius = gather::scene_radius(&bvh);
         let (table, bounds, directional_share) = gather::lights(lights.iter(), radius);
+        // A radius of 0 leaves directional lights out of the table: its indices then move.
+        let reindexed = table.len() as u32 != info.light_count;
         info.light_count = table.len() as u32;
         info.directional_share = directional_share;
-        scene.punctual_tree = if table.len() > layout::ALL_PUNCTUAL_LIGHTS_MAX as usize {
-            FlatTree::build(&bounds)
-        } else {
-            FlatTree::default()
-        };
+        if lights_edited || reindexed {
+            scene.punctual_tree = if table.len() > layout::ALL_PUNCTUAL_LIGHTS_MAX as usize {
+                FlatTree::build(&bounds)
+            } else {
+                FlatTree::default()
+            };
+        }
         put!(scene, stats, realloc, lights, &table);
     }
     let area_changed = bvh_changed || materials_changed || env_changed;
