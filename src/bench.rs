@@ -8,8 +8,8 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use chiaro::eval::bench::{
-    BenchProgress, BenchScene, BenchSettings, default_configs, default_scenes, run_bench,
-    write_outputs,
+    BenchProgress, BenchScene, BenchSettings, default_configs, default_scenes, extra_configs,
+    run_bench, write_outputs,
 };
 
 /// What `chiaro bench` takes.
@@ -37,11 +37,14 @@ pub struct BenchArgs {
     /// Frames rendered before timing starts.
     #[arg(long, default_value_t = 2)]
     warmup: u32,
-    /// Only these configurations (by name, as the table lists them); all by default.
+    /// These configurations, by name, instead of the default set (direct, realtime,
+    /// realtime-no-denoise, realtime-spp2, realtime-spp4, realtime-bounces1,
+    /// realtime-bounces3, naive, reference); also known: direct-power, realtime-power,
+    /// realtime-all-features.
     #[arg(long, value_delimiter = ',')]
     configs: Vec<String>,
-    /// Leaves out the realtime run along the scripted camera path (`realtime-path`, a pan of
-    /// 8 degrees over the run) and its references at each checkpoint's pose.
+    /// Leaves out the realtime run along the scripted camera path (`realtime-path`: the
+    /// camera looks to the side and back between checkpoints).
     #[arg(long)]
     no_camera_path: bool,
 }
@@ -64,6 +67,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     };
     let mut configs = default_configs();
     if !args.configs.is_empty() {
+        configs.extend(extra_configs());
         if let Some(unknown) = args
             .configs
             .iter()
@@ -89,7 +93,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let context = chiaro::gpu::GpuContext::new_headless()?;
     eprintln!("adapter: {}", context.describe());
     let mut renderer = chiaro::gpu::Renderer::new(context);
-    let path_steps = if settings.camera_path { 2 } else { 0 };
+    let path_steps = usize::from(settings.camera_path);
     let bar = ProgressBar::new((scenes.len() * (configs.len() + 1 + path_steps)) as u64);
     bar.set_style(
         ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} {msg}")
@@ -105,7 +109,6 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         bar.set_message(match step {
             BenchProgress::Reference(scene) => format!("{scene}: reference"),
             BenchProgress::Run { scene, config } => format!("{scene}: {config}"),
-            BenchProgress::PathReferences(scene) => format!("{scene}: references along the path"),
         });
     };
     let results = run_bench(&mut renderer, &scenes, &configs, &settings, &mut progress)?;

@@ -58,7 +58,35 @@ fn bench_writes_results_table_and_plot_and_caches_the_reference() {
     assert_eq!(scene["scene"], "builtin:cornell");
     assert!(scene["reference_seconds"].as_f64().unwrap() > 0.0);
     let runs = scene["runs"].as_array().unwrap();
-    assert!(!runs.is_empty());
+    let names: Vec<&str> = runs.iter().map(|r| r["config"].as_str().unwrap()).collect();
+    assert_eq!(
+        names,
+        [
+            "direct",
+            "realtime",
+            "realtime-no-denoise",
+            "realtime-spp2",
+            "realtime-spp4",
+            "realtime-bounces1",
+            "realtime-bounces3",
+            "naive",
+            "reference",
+            "realtime-path",
+        ]
+    );
+    // One converged reference: the camera path comes back to the camera's pose at each
+    // checkpoint and is measured against it.
+    let cached = std::fs::read_dir(dir.join("cache"))
+        .unwrap()
+        .filter(|e| {
+            e.as_ref()
+                .unwrap()
+                .path()
+                .extension()
+                .is_some_and(|x| x == "exr")
+        })
+        .count();
+    assert_eq!(cached, 1);
     for run in runs {
         assert!(run["median_frame_ms"].as_f64().unwrap() > 0.0, "{run}");
         assert!(!run["pass_ms"].as_array().unwrap().is_empty(), "{run}");

@@ -1,8 +1,11 @@
-//! The scripted camera path of `chiaro bench`: the scene's camera pans about its own up axis,
-//! [`PAN_DEGREES`] over the run at a steady rate (frame f of F at PAN_DEGREES x f / F), so
-//! every frame moves the view and the realtime frame's reprojection, history rejection at the
-//! newly seen edge and denoiser work as they do in an interactive pan. A pan needs no scale:
-//! it moves any scene by the same fraction of its field of view.
+//! The scripted camera path of `chiaro bench`: between one checkpoint and the next the scene's
+//! camera pans about its own up axis away from its pose at [`PAN_DEGREES_PER_FRAME`] and back
+//! at the same rate (a look to the side and back, as in a walkthrough), so every frame but the
+//! checkpoints moves the view, and every checkpoint sees the scene from the camera's own pose.
+//! The realtime frame's reprojection, history rejection at the newly seen edge and denoiser work
+//! as they do in an interactive pan, and the run is measured against the static camera's
+//! converged reference: the path needs no reference of its own. A pan needs no scale: it moves
+//! any scene by the same fraction of its field of view.
 
 use bevy_ecs::world::World;
 use chiaro_scene::{ActiveCamera, Transform};
@@ -13,12 +16,34 @@ use super::BenchError;
 /// The configuration name of the realtime run along the path.
 pub const PATH_CONFIG: &str = "realtime-path";
 
-/// How far the camera turns over a run, degrees.
-pub const PAN_DEGREES: f32 = 8.0;
+/// How fast the camera turns, degrees per frame (15 degrees a second at 60 frames a second).
+pub const PAN_DEGREES_PER_FRAME: f32 = 0.25;
 
-/// The pan at frame `frame` of a run of `last` frames, degrees.
-pub fn pan_at(frame: u32, last: u32) -> f32 {
-    PAN_DEGREES * frame as f32 / last.max(1) as f32
+/// The pan at frame `frame` of a run measured after each of `checkpoints` frames (increasing),
+/// degrees: 0 at every checkpoint and before the first, and between two checkpoints a and b
+/// the distance to the nearer of them times the rate, so the camera turns out for half the
+/// interval and back for the other half.
+pub fn pan_at(frame: u32, checkpoints: &[u32]) -> f32 {
+    let mut start = 0;
+    for &checkpoint in checkpoints {
+        if frame <= checkpoint {
+            if start == 0 {
+                return 0.0;
+            }
+            let frames = (frame - start).min(checkpoint - frame);
+            return PAN_DEGREES_PER_FRAME * frames as f32;
+        }
+        start = checkpoint;
+    }
+    0.0
+}
+
+/// The largest pan of a run measured after each of `checkpoints` frames, degrees.
+pub fn largest_pan(checkpoints: &[u32]) -> f32 {
+    let last = checkpoints.last().copied().unwrap_or(0);
+    (1..=last)
+        .map(|frame| pan_at(frame, checkpoints))
+        .fold(0.0, f32::max)
 }
 
 /// The active camera's transform as the scene set it.
@@ -51,11 +76,47 @@ pub fn set_pan(world: &mut World, base: &Transform, degrees: f32) {
 mod tests {
     use super::*;
 
+    const CHECKPOINTS: [u32; 4] = [1, 4, 16, 64];
+
     #[test]
-    fn the_pan_grows_steadily_to_its_full_angle() {
-        assert_eq!(pan_at(0, 64), 0.0);
-        assert_eq!(pan_at(32, 64), PAN_DEGREES / 2.0);
-        assert_eq!(pan_at(64, 64), PAN_DEGREES);
+    fn every_checkpoint_is_at_the_cameras_own_pose() {
+        for checkpoint in CHECKPOINTS {
+            assert_eq!(pan_at(checkpoint, &CHECKPOINTS), 0.0);
+        }
+    }
+
+    #[test]
+    fn the_camera_turns_out_and_back_between_checkpoints() {
+        let r = PAN_DEGREES_PER_FRAME;
+        let pans: Vec<f32> = (1..=16).map(|f| pan_at(f, &CHECKPOINTS)).collect();
+        let expected = [
+            0.0,
+            r,
+            r,
+            0.0,
+            r,
+            2.0 * r,
+            3.0 * r,
+            4.0 * r,
+            5.0 * r,
+            6.0 * r,
+            5.0 * r,
+            4.0 * r,
+            3.0 * r,
+            2.0 * r,
+            r,
+            0.0,
+        ];
+        assert_eq!(pans, expected);
+        // Between 16 and 64 the turn peaks at frame 40, 24 frames out.
+        assert_eq!(pan_at(40, &CHECKPOINTS), 24.0 * r);
+        assert_eq!(largest_pan(&CHECKPOINTS), 24.0 * r);
+        // Every frame between checkpoints moves the view.
+        for frame in 2..64 {
+            if !CHECKPOINTS.contains(&frame) {
+                assert!(pan_at(frame, &CHECKPOINTS) > 0.0, "frame {frame}");
+            }
+        }
     }
 
     #[test]

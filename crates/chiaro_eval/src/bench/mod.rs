@@ -26,7 +26,7 @@ use thiserror::Error;
 use crate::{CompareSettings, EvalError, HdrImage, compare};
 use camera_path::{PATH_CONFIG, camera_transform, pan_at, set_pan};
 use chiaro_scene::Transform;
-pub use reference_cache::{Reference, converged_reference, converged_reference_at};
+pub use reference_cache::{Reference, converged_reference};
 use results::{BenchResults, Checkpoint, RunResult, SceneResult};
 
 /// Why a benchmark stopped.
@@ -164,44 +164,17 @@ pub struct BenchConfig {
 /// The realtime configuration compiled with every shader feature, whatever the scene uses.
 pub const ALL_FEATURES_CONFIG: &str = "realtime-all-features";
 
-/// The configurations measured by default: direct light only; realtime as it ships, with every
-/// shader feature compiled in rather than only the scene's (what specialisation saves), without
-/// its denoiser, with 2 and 4 paths per pixel and with bounce caps 1 and 3; the naive paths;
-/// the GPU reference; and direct and realtime with lights picked by power instead of through
-/// the light trees (the many-lights baseline).
+/// The configurations measured by default: direct light only; realtime as it ships, and
+/// without its denoiser, with 2 and 4 paths per pixel and with bounce caps 1 and 3; the naive
+/// paths; the GPU reference.
 pub fn default_configs() -> Vec<BenchConfig> {
     let realtime = FrameSettings::default();
     let mut raw = realtime;
     raw.denoise.enabled = false;
-    let direct = FrameSettings {
-        mode: RenderMode::Direct,
-        ..realtime
-    };
-    let power = LightSampling::Power;
-    let configs = [
-        ("direct", direct),
-        (
-            "direct-power",
-            FrameSettings {
-                light_sampling: power,
-                ..direct
-            },
-        ),
+    let mode = |mode| FrameSettings { mode, ..realtime };
+    configs([
+        ("direct", mode(RenderMode::Direct)),
         ("realtime", realtime),
-        (
-            ALL_FEATURES_CONFIG,
-            FrameSettings {
-                pipeline: PipelineChoice::AllFeatures,
-                ..realtime
-            },
-        ),
-        (
-            "realtime-power",
-            FrameSettings {
-                light_sampling: power,
-                ..realtime
-            },
-        ),
         ("realtime-no-denoise", raw),
         ("realtime-spp2", FrameSettings { spp: 2, ..realtime }),
         ("realtime-spp4", FrameSettings { spp: 4, ..realtime }),
@@ -219,22 +192,46 @@ pub fn default_configs() -> Vec<BenchConfig> {
                 ..realtime
             },
         ),
+        ("naive", mode(RenderMode::Naive)),
+        ("reference", mode(RenderMode::Reference)),
+    ])
+}
+
+/// The configurations measured only when asked for by name: realtime with every shader
+/// feature compiled in rather than only the scene's (what specialisation saves), and direct
+/// and realtime with lights picked by power instead of through the light trees (the
+/// many-lights baseline).
+pub fn extra_configs() -> Vec<BenchConfig> {
+    let realtime = FrameSettings::default();
+    let power = LightSampling::Power;
+    configs([
         (
-            "naive",
+            "direct-power",
             FrameSettings {
-                mode: RenderMode::Naive,
+                mode: RenderMode::Direct,
+                light_sampling: power,
                 ..realtime
             },
         ),
         (
-            "reference",
+            ALL_FEATURES_CONFIG,
             FrameSettings {
-                mode: RenderMode::Reference,
+                pipeline: PipelineChoice::AllFeatures,
                 ..realtime
             },
         ),
-    ];
-    configs
+        (
+            "realtime-power",
+            FrameSettings {
+                light_sampling: power,
+                ..realtime
+            },
+        ),
+    ])
+}
+
+fn configs<const N: usize>(named: [(&str, FrameSettings); N]) -> Vec<BenchConfig> {
+    named
         .into_iter()
         .map(|(name, frame)| BenchConfig {
             name: name.into(),
@@ -262,8 +259,8 @@ pub struct BenchSettings {
     pub cache_dir: PathBuf,
     /// Frames rendered and thrown away before timing (pipelines and caches warm).
     pub warmup_frames: u32,
-    /// Whether the realtime configuration also runs along the camera path (one more
-    /// converged reference per checkpoint and scene, cached like the static one).
+    /// Whether the realtime configuration also runs along the camera path
+    /// ([`camera_path`]), against the same reference.
     pub camera_path: bool,
 }
 
@@ -279,8 +276,6 @@ pub enum BenchProgress {
         /// The configuration.
         config: String,
     },
-    /// Rendering or reading the references along the camera path of a scene.
-    PathReferences(String),
 }
 
 fn median(values: &mut [f64]) -> f64 {
@@ -323,7 +318,7 @@ fn measure(
     let last = settings.checkpoints.last().copied().unwrap_or(1);
     for frame in 1..=last {
         if let Some(base) = path {
-            set_pan(world, base, pan_at(frame, last));
+            set_pan(world, base, pan_at(frame, &settings.checkpoints));
         }
         let start = Instant::now();
         let times = if frame == 1 {
@@ -378,42 +373,22 @@ fn measure(
     })
 }
 
-/// The realtime configuration along the camera path, against the converged reference at
-/// each checkpoint's pose.
+/// The realtime configuration along the camera path, against the scene's converged reference
+/// (every checkpoint is at the camera's own pose).
 fn measure_path(
     renderer: &mut Renderer,
     world: &mut World,
     scene: &BenchScene,
     settings: &BenchSettings,
-    progress: &mut dyn FnMut(BenchProgress),
+    reference: &HdrImage,
 ) -> Result<RunResult, BenchError> {
-    progress(BenchProgress::PathReferences(scene.label()));
-    let last = settings.checkpoints.last().copied().unwrap_or(1);
-    let references = settings
-        .checkpoints
-        .iter()
-        .map(|&frame| {
-            converged_reference_at(
-                scene,
-                pan_at(frame, last),
-                settings.width,
-                settings.height,
-                settings.reference_spp,
-                &settings.cache_dir,
-            )
-        })
-        .collect::<Result<Vec<_>, _>>()?;
     let base = camera_transform(world, &scene.label())?;
-    progress(BenchProgress::Run {
-        scene: scene.label(),
-        config: PATH_CONFIG.into(),
-    });
     let config = BenchConfig {
         name: PATH_CONFIG.into(),
         settings: RenderSettings::default(),
     };
-    let images: Vec<&HdrImage> = references.iter().map(|r| &r.image).collect();
-    measure(renderer, world, &config, settings, &images, Some(&base))
+    let references = vec![reference; settings.checkpoints.len()];
+    measure(renderer, world, &config, settings, &references, Some(&base))
 }
 
 /// Runs every configuration on every scene; `progress` hears of each step before it starts.
@@ -467,8 +442,16 @@ pub fn run_bench(
             )?);
         }
         if settings.camera_path {
+            progress(BenchProgress::Run {
+                scene: scene.label(),
+                config: PATH_CONFIG.into(),
+            });
             runs.push(measure_path(
-                renderer, &mut world, scene, settings, progress,
+                renderer,
+                &mut world,
+                scene,
+                settings,
+                &reference.image,
             )?);
         }
         results.scenes.push(SceneResult {

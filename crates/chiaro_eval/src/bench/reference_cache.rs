@@ -8,7 +8,6 @@ use std::time::Instant;
 use chiaro_reference::{PathSettings, RenderSettings, read_exr, render_world, write_exr};
 use serde::{Deserialize, Serialize};
 
-use super::camera_path::{camera_transform, set_pan};
 use super::{BenchError, BenchScene};
 use crate::HdrImage;
 
@@ -44,25 +43,20 @@ fn fnv1a(text: &str) -> u64 {
 
 /// What decides the reference's pixels: the scene, its environment file (by path, size and
 /// modification time), the image size, the sample count, the seed, the path settings, the
-/// chiaro version, and the camera path's pan when there is one.
-fn cache_key(scene: &BenchScene, pan_degrees: f32, width: u32, height: u32, spp: u32) -> String {
+/// chiaro version.
+fn cache_key(scene: &BenchScene, width: u32, height: u32, spp: u32) -> String {
     let env = scene.env.as_ref().map(|path| {
         let meta = fs::metadata(path).ok();
         let size = meta.as_ref().map(|m| m.len());
         let modified = meta.and_then(|m| m.modified().ok());
         format!("{} {size:?} {modified:?}", path.display())
     });
-    let key = format!(
+    format!(
         "{} {env:?} {width}x{height} {spp} {REFERENCE_SEED} {:?} {}",
         scene.scene,
         PathSettings::default(),
         env!("CARGO_PKG_VERSION")
-    );
-    if pan_degrees == 0.0 {
-        key
-    } else {
-        format!("{key} pan {pan_degrees}")
-    }
+    )
 }
 
 /// The cached reference's path in `cache_dir`.
@@ -79,20 +73,7 @@ pub fn converged_reference(
     spp: u32,
     cache_dir: &Path,
 ) -> Result<Reference, BenchError> {
-    converged_reference_at(scene, 0.0, width, height, spp, cache_dir)
-}
-
-/// [`converged_reference`] with the scene's camera panned by `pan_degrees`
-/// ([`super::camera_path::set_pan`]; 0 is the scene's own view).
-pub fn converged_reference_at(
-    scene: &BenchScene,
-    pan_degrees: f32,
-    width: u32,
-    height: u32,
-    spp: u32,
-    cache_dir: &Path,
-) -> Result<Reference, BenchError> {
-    let key = cache_key(scene, pan_degrees, width, height, spp);
+    let key = cache_key(scene, width, height, spp);
     let path = cache_path(cache_dir, &key);
     let sidecar_path = path.with_extension("json");
     if let (Ok(text), true) = (fs::read_to_string(&sidecar_path), path.exists())
@@ -108,10 +89,6 @@ pub fn converged_reference_at(
         });
     }
     let mut world = scene.load()?;
-    if pan_degrees != 0.0 {
-        let base = camera_transform(&mut world, &scene.label())?;
-        set_pan(&mut world, &base, pan_degrees);
-    }
     let settings = RenderSettings {
         width,
         height,
@@ -143,20 +120,19 @@ mod tests {
     #[test]
     fn the_key_changes_with_everything_that_decides_the_pixels() {
         let scene = BenchScene::builtin("builtin:cornell");
-        let base = cache_key(&scene, 0.0, 64, 64, 16);
-        assert_ne!(base, cache_key(&scene, 0.0, 64, 32, 16));
-        assert_ne!(base, cache_key(&scene, 0.0, 64, 64, 32));
+        let base = cache_key(&scene, 64, 64, 16);
+        assert_ne!(base, cache_key(&scene, 64, 32, 16));
+        assert_ne!(base, cache_key(&scene, 64, 64, 32));
         assert_ne!(
             base,
-            cache_key(&BenchScene::builtin("builtin:furnace"), 0.0, 64, 64, 16)
+            cache_key(&BenchScene::builtin("builtin:furnace"), 64, 64, 16)
         );
         let lit = BenchScene {
             env: Some(PathBuf::from("sky.hdr")),
             ..scene.clone()
         };
-        assert_ne!(base, cache_key(&lit, 0.0, 64, 64, 16));
-        assert_ne!(base, cache_key(&scene, 1.0, 64, 64, 16));
-        assert_eq!(base, cache_key(&scene, 0.0, 64, 64, 16));
+        assert_ne!(base, cache_key(&lit, 64, 64, 16));
+        assert_eq!(base, cache_key(&scene, 64, 64, 16));
     }
 
     #[test]

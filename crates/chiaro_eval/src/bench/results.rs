@@ -182,17 +182,19 @@ impl BenchResults {
                 md += &at.join("; ");
                 md += ".\n";
             }
-            if scene
+            if let Some(path) = scene
                 .runs
                 .iter()
-                .any(|r| r.config == super::camera_path::PATH_CONFIG)
+                .find(|r| r.config == super::camera_path::PATH_CONFIG)
             {
+                let frames: Vec<u32> = path.checkpoints.iter().map(|c| c.frames).collect();
                 md += &format!(
-                    "\n`{}`: the realtime configuration while the camera pans {} degrees over \
-                     the run at a steady rate, each checkpoint against the converged reference \
-                     at that frame's pose.\n",
+                    "\n`{}`: the realtime configuration while the camera pans about its up axis \
+                     at {} degrees a frame, out and back between checkpoints (up to {} degrees), \
+                     each checkpoint at the camera's own pose, against the same reference.\n",
                     super::camera_path::PATH_CONFIG,
-                    super::camera_path::PAN_DEGREES
+                    super::camera_path::PAN_DEGREES_PER_FRAME,
+                    super::camera_path::largest_pan(&frames)
                 );
             }
             if let Some(line) = scene.specialization_summary() {
