@@ -38,7 +38,7 @@ struct CompositeParams {
 @group(0) @binding(4) var gbuffer_surface: texture_2d<u32>;
 @group(0) @binding(5) var gbuffer_emission: texture_2d<u32>;
 @group(0) @binding(6) var<storage, read_write> accumulation: array<vec4<f32>>;
-@group(0) @binding(7) var<uniform> params: CompositeParams;
+@group(0) @binding(7) var<storage, read> params: CompositeParams;
 @group(0) @binding(8) var hdr_out: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(9) var gbuffer_motion: texture_2d<u32>;
 @group(0) @binding(10) var<storage, read> resolve_previous: array<vec4<f32>>;

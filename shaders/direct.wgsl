@@ -40,7 +40,7 @@ fn light_tree_sampling() -> bool {
     return params.light_sampling == LIGHT_SAMPLING_TREE;
 }
 
-@group(1) @binding(4) var<uniform> params: DirectParams;
+@group(1) @binding(4) var<storage, read> params: DirectParams;
 @group(1) @binding(5) var direct_out: texture_storage_2d<rgba32float, write>;
 
 // One BRDF sample: the emission or environment it reaches, weighted against light sampling.

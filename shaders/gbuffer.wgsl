@@ -16,7 +16,7 @@
 #import lib/camera.wgsl
 #import lib/gbuffer_packing.wgsl
 
-@group(1) @binding(0) var<uniform> camera: GpuCamera;
+@group(1) @binding(0) var<storage, read> camera: GpuCamera;
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,

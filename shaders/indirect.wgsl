@@ -71,7 +71,7 @@ fn light_tree_sampling() -> bool {
     return params.light_sampling == LIGHT_SAMPLING_TREE;
 }
 
-@group(1) @binding(4) var<uniform> params: IndirectParams;
+@group(1) @binding(4) var<storage, read> params: IndirectParams;
 @group(1) @binding(5) var indirect_out: texture_storage_2d<rgba32float, write>;
 
 // chiaro_reference's PathSettings::default().russian_roulette_from and its survival floor.

@@ -23,8 +23,8 @@
 #import lib/demodulate.wgsl
 #import lib/denoise.wgsl
 
-@group(0) @binding(0) var<uniform> camera: GpuCamera;
-@group(0) @binding(1) var<uniform> params: DenoiseParams;
+@group(0) @binding(0) var<storage, read> camera: GpuCamera;
+@group(0) @binding(1) var<storage, read> params: DenoiseParams;
 @group(0) @binding(2) var direct_light: texture_2d<f32>;
 @group(0) @binding(3) var indirect_light: texture_2d<f32>;
 @group(0) @binding(4) var gbuffer_position: texture_2d<u32>;

@@ -15,7 +15,7 @@ struct TonemapParams {
 }
 
 @group(0) @binding(0) var hdr: texture_2d<f32>;
-@group(0) @binding(1) var<uniform> params: TonemapParams;
+@group(0) @binding(1) var<storage, read> params: TonemapParams;
 @group(0) @binding(2) var ldr_out: texture_storage_2d<rgba8unorm, write>;
 
 @compute @workgroup_size(8, 8)

@@ -15,7 +15,7 @@
 #import lib/float.wgsl
 #import lib/denoise.wgsl
 
-@group(0) @binding(0) var<uniform> params: DenoiseParams;
+@group(0) @binding(0) var<storage, read> params: DenoiseParams;
 @group(0) @binding(1) var integrated: texture_2d<f32>;
 @group(0) @binding(2) var moments: texture_2d<f32>;
 @group(0) @binding(3) var edges: texture_2d<f32>;

@@ -1,4 +1,4 @@
-// The camera uniform (chiaro_gpu::camera::GpuCamera) and primary rays built as
+// The camera parameters (chiaro_gpu::camera::GpuCamera) and primary rays built as
 // chiaro_reference's CameraRays builds them (glTF pinhole or orthographic camera).
 
 struct GpuCamera {

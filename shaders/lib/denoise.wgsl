@@ -1,4 +1,4 @@
-// What the denoiser's passes (temporal, variance, atrous) share: their uniform, the per-pixel
+// What the denoiser's passes (temporal, variance, atrous) share: their parameters, the per-pixel
 // edge data the temporal pass writes for the filters, and SVGF's edge-stopping weights
 // (Schied et al., "Spatiotemporal Variance-Guided Filtering", HPG 2017, section 4.4).
 

@@ -8,7 +8,7 @@
 @group(1) @binding(0) var gbuffer_position: texture_2d<u32>;
 @group(1) @binding(1) var gbuffer_surface: texture_2d<u32>;
 @group(1) @binding(2) var gbuffer_emission: texture_2d<u32>;
-@group(1) @binding(3) var<uniform> camera: GpuCamera;
+@group(1) @binding(3) var<storage, read> camera: GpuCamera;
 
 // The G-buffer's texels at a pixel.
 fn gbuffer_load(pixel: vec2<i32>) -> GbufferTexels {

@@ -139,7 +139,7 @@ struct GpuLightTreeNode {
 @group(0) @binding(16) var<storage, read> scene_instance_extras: array<GpuInstanceExtra>;
 @group(0) @binding(17) var<storage, read> scene_env_texels: array<vec4<f32>>;
 @group(0) @binding(18) var<storage, read> scene_env_table: array<f32>;
-@group(0) @binding(19) var<uniform> scene_info: GpuSceneInfo;
+@group(0) @binding(19) var<storage, read> scene_info: GpuSceneInfo;
 @group(0) @binding(20) var<storage, read> scene_light_tree: array<GpuLightTreeNode>;
 
 // The hook lib/light_tree.wgsl reads its nodes through.

@@ -14,7 +14,7 @@ use thiserror::Error;
 #[error("the scene has no active camera with a transform")]
 pub struct NoCamera;
 
-/// The camera uniform (mirrored by `shaders/lib/camera.wgsl`).
+/// The camera parameters (mirrored by `shaders/lib/camera.wgsl`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 #[repr(C, align(16))]
 pub struct GpuCamera {
@@ -83,7 +83,7 @@ fn orthographic(xmag: f32, ymag: f32, znear: f32, zfar: f32) -> Mat4 {
 }
 
 impl GpuCamera {
-    /// The uniform for `camera` at `global`, an image of `width` x `height` pixels, sampling
+    /// The parameters for `camera` at `global`, an image of `width` x `height` pixels, sampling
     /// the point `jitter` of each pixel; `previous` is the last frame's unjittered
     /// view-projection (`None`: the same as this frame's).
     pub fn new(

@@ -30,11 +30,11 @@ use crate::targets::{
 /// Most a-trous iterations (what [`crate::FrameSettings::validate`] accepts).
 pub const MAX_ATROUS_ITERATIONS: usize = 10;
 
-/// Bytes between the copies of [`DenoiseParams`] in the uniform buffer (one per iteration; the
-/// uniform offset alignment WebGPU guarantees).
+/// Bytes between the copies of [`DenoiseParams`] in the parameter buffer (one per iteration; the
+/// storage-buffer offset alignment WebGPU guarantees).
 const PARAMS_STRIDE: u64 = 256;
 
-/// The denoiser's uniform (mirrored by `DenoiseParams` in `shaders/lib/denoise.wgsl`).
+/// The denoiser's parameters (mirrored by `DenoiseParams` in `shaders/lib/denoise.wgsl`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 #[repr(C)]
 pub struct DenoiseParams {
@@ -85,7 +85,7 @@ pub struct Denoiser {
 }
 
 impl Denoiser {
-    /// Textures and pipelines at the targets' size; `camera` is the frame's camera uniform.
+    /// Textures and pipelines at the targets' size; `camera` is the frame's camera parameters.
     pub fn new(
         device: &wgpu::Device,
         targets: &FrameTargets,
@@ -101,7 +101,7 @@ impl Denoiser {
         let params = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("denoise params"),
             size: PARAMS_STRIDE * MAX_ATROUS_ITERATIONS as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
         let previous = [
@@ -208,7 +208,7 @@ impl Denoiser {
         })
     }
 
-    /// Writes the uniforms for the next frame; `reset` drops all history (first frame,
+    /// Writes the parameters for the next frame; `reset` drops all history (first frame,
     /// resize, scene switch, or frames rendered without the denoiser).
     pub fn prepare(&mut self, queue: &wgpu::Queue, settings: &DenoiseSettings, reset: bool) {
         self.iterations = (settings.atrous_iterations as usize).min(MAX_ATROUS_ITERATIONS);

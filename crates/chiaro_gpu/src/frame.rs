@@ -1,5 +1,5 @@
 //! One frame, top-down: the passes in the order they run, which of them each mode runs, their
-//! uniforms and bind groups, timed per pass.
+//! parameter buffers and bind groups, timed per pass.
 //!
 //! 1. `gbuffer` (raster): position, normals, material, emission, instance id, motion vectors,
 //!    depth.
@@ -113,12 +113,12 @@ pub struct FrameInput {
     pub background_compile: bool,
 }
 
-/// A uniform buffer holding one `T`.
-fn uniform_buffer(device: &wgpu::Device, label: &str, size: usize) -> wgpu::Buffer {
+/// A parameter buffer (read-only storage; see [`crate::passes::params`]) of `size` bytes.
+fn params_buffer(device: &wgpu::Device, label: &str, size: usize) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
         size: size as u64,
-        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     })
 }
@@ -228,13 +228,12 @@ impl Frame {
         } = &scene_passes;
         let composite = CompositePass::new(device)?;
         let tonemap = TonemapPass::new(device)?;
-        let camera = uniform_buffer(device, "camera uniform", size_of::<GpuCamera>());
-        let direct_params = uniform_buffer(device, "direct params", size_of::<DirectParams>());
-        let indirect_params =
-            uniform_buffer(device, "indirect params", size_of::<IndirectParams>());
+        let camera = params_buffer(device, "camera params", size_of::<GpuCamera>());
+        let direct_params = params_buffer(device, "direct params", size_of::<DirectParams>());
+        let indirect_params = params_buffer(device, "indirect params", size_of::<IndirectParams>());
         let composite_params =
-            uniform_buffer(device, "composite params", size_of::<CompositeParams>());
-        let tonemap_params = uniform_buffer(device, "tonemap params", size_of::<TonemapParams>());
+            params_buffer(device, "composite params", size_of::<CompositeParams>());
+        let tonemap_params = params_buffer(device, "tonemap params", size_of::<TonemapParams>());
         let denoiser = Denoiser::new(device, &targets, &camera)?;
         let filtered = denoiser.output();
         Ok(Self {
@@ -279,7 +278,7 @@ impl Frame {
         self.features
     }
 
-    /// The camera uniform (a [`GpuCamera`]) the last frame rendered with, jitter included
+    /// The camera parameters (a [`GpuCamera`]) the last frame rendered with, jitter included
     /// (for debug views that trace the frame's camera rays).
     pub fn camera(&self) -> &wgpu::Buffer {
         &self.camera
@@ -290,8 +289,8 @@ impl Frame {
         &self.denoiser
     }
 
-    /// Writes the uniforms of the passes for this frame.
-    fn write_uniforms(&mut self, queue: &wgpu::Queue, camera: &GpuCamera, input: &FrameInput) {
+    /// Writes the parameters of the passes for this frame.
+    fn write_params(&mut self, queue: &wgpu::Queue, camera: &GpuCamera, input: &FrameInput) {
         let s = &input.settings;
         let denoised = denoises(s);
         // The denoiser's and the resolve's histories restart together.
@@ -420,7 +419,7 @@ impl Frame {
     ) -> PassTimes {
         let (device, queue) = (&context.device, &context.queue);
         self.features = self.scene_passes.specialize(device, input);
-        self.write_uniforms(queue, camera, input);
+        self.write_params(queue, camera, input);
         let run = passes(&input.settings);
         let gpu = self.timer.gpu();
         let mut wall = Vec::new();

@@ -1,5 +1,6 @@
-//! Every shader entry file composes and validates under naga (no GPU needed), and the
-//! generated constants read back in WGSL as exactly the Rust values.
+//! Every shader entry file composes and validates under naga (no GPU needed), binds no uniform
+//! buffer and no more storage buffers than chiaro asks the device for, and the generated
+//! constants read back in WGSL as exactly the Rust values.
 
 use chiaro_gpu::shaders::{self, SharedConstant};
 
@@ -33,6 +34,40 @@ fn every_entry_file_composes_and_validates() {
     }
     eprintln!("{count} entry files checked");
     assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+}
+
+/// Parameters live in read-only storage buffers, never uniform buffers (lavapipe recompiles a
+/// shader at every dispatch whose branches read uniforms: `chiaro_gpu::passes::params`), and
+/// the busiest shader binds exactly the storage buffers the device is asked for.
+#[test]
+fn no_shader_binds_a_uniform_buffer_and_storage_buffers_fit_the_limit() {
+    let mut most = (0, "");
+    for name in shaders::entry_files() {
+        let source = shaders::compose(name).unwrap();
+        let module = validate(name, &source).unwrap();
+        let mut storage = 0;
+        for (_, global) in module.global_variables.iter() {
+            assert_ne!(
+                global.space,
+                naga::AddressSpace::Uniform,
+                "{name} declares {:?} as a uniform buffer",
+                global.name
+            );
+            if matches!(global.space, naga::AddressSpace::Storage { .. }) {
+                storage += 1;
+            }
+        }
+        if storage > most.0 {
+            most = (storage, name);
+        }
+    }
+    eprintln!("most storage buffers: {} in {}", most.0, most.1);
+    assert_eq!(
+        most.0,
+        chiaro_gpu::context::STORAGE_BUFFERS_PER_STAGE,
+        "{}",
+        most.1
+    );
 }
 
 #[test]

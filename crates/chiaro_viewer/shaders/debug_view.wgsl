@@ -28,7 +28,7 @@ struct DebugParams {
 @group(0) @binding(4) var direct_target: texture_2d<f32>;
 @group(0) @binding(5) var indirect_target: texture_2d<f32>;
 @group(0) @binding(6) var output: texture_storage_2d<rgba8unorm, write>;
-@group(0) @binding(7) var<uniform> params: DebugParams;
+@group(0) @binding(7) var<storage, read> params: DebugParams;
 @group(0) @binding(8) var filtered_target: texture_2d<f32>;
 // Mean luminance, mean squared luminance, history length in frames, 0.
 @group(0) @binding(9) var moments_target: texture_2d<f32>;

@@ -3,7 +3,7 @@
 // camera ray through the frame's jittered sample of that pixel, shown through the viridis colour
 // map (van der Walt and Smith, matplotlib 1.5, 2015: lightness rises monotonically from dark
 // blue to yellow) from 0 steps to params.max_steps (and above). The map's stops arrive in the
-// uniform as 8-bit sRGB over 255 and are written as they are.
+// parameters as 8-bit sRGB over 255 and are written as they are.
 
 #import lib/generated.wgsl
 #import lib/bvh.wgsl
@@ -23,8 +23,8 @@ struct TraversalParams {
     pad2: f32,
 }
 
-@group(1) @binding(0) var<uniform> camera: GpuCamera;
-@group(1) @binding(1) var<uniform> params: TraversalParams;
+@group(1) @binding(0) var<storage, read> camera: GpuCamera;
+@group(1) @binding(1) var<storage, read> params: TraversalParams;
 @group(1) @binding(2) var output: texture_storage_2d<rgba8unorm, write>;
 
 // The colour map at t in [0, 1] (clamped): linear between the two nearest stops.

@@ -126,7 +126,7 @@ impl DebugPass {
     pub fn new(device: &wgpu::Device) -> Result<Self, ShaderError> {
         let uint = wgpu::TextureSampleType::Uint;
         let float = wgpu::TextureSampleType::Float { filterable: false };
-        use chiaro_gpu::passes::{compute_entry as e, storage_texture, texture, uniform};
+        use chiaro_gpu::passes::{compute_entry as e, params, storage_texture, texture};
         let entries = [
             e(0, texture(uint)),
             e(1, texture(uint)),
@@ -135,7 +135,7 @@ impl DebugPass {
             e(4, texture(float)),
             e(5, texture(float)),
             e(6, storage_texture(wgpu::TextureFormat::Rgba8Unorm)),
-            e(7, uniform()),
+            e(7, params()),
             e(8, texture(float)),
             e(9, texture(float)),
         ];
@@ -164,7 +164,7 @@ impl DebugPass {
         let params = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("debug view parameters"),
             size: std::mem::size_of::<DebugParams>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
         Ok(Self {
@@ -303,7 +303,7 @@ mod tests {
     #[test]
     fn the_shader_composes_and_validates() {
         let source = shader_source().unwrap();
-        // The uniform's layout matches the Rust struct.
+        // The parameters' layout matches the Rust struct.
         assert_eq!(
             crate::shader_check::struct_size(&source, "DebugParams"),
             std::mem::size_of::<DebugParams>()

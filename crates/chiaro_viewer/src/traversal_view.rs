@@ -90,12 +90,12 @@ impl TraversalPass {
         queue: &wgpu::Queue,
         scene: &GpuScene,
     ) -> Result<Self, ShaderError> {
-        use chiaro_gpu::passes::{compute_entry as e, storage_texture, uniform};
+        use chiaro_gpu::passes::{compute_entry as e, params, storage_texture};
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("traversal view layout"),
             entries: &[
-                e(0, uniform()),
-                e(1, uniform()),
+                e(0, params()),
+                e(1, params()),
                 e(2, storage_texture(wgpu::TextureFormat::Rgba8Unorm)),
             ],
         });
@@ -124,7 +124,7 @@ impl TraversalPass {
         let buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("traversal view parameters"),
             size: std::mem::size_of::<TraversalParams>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
         queue.write_buffer(&buffer, 0, bytemuck::bytes_of(&params));
@@ -135,7 +135,7 @@ impl TraversalPass {
         })
     }
 
-    /// Records the heatmap of `scene` seen by `camera` (a `GpuCamera` uniform) into `output`
+    /// Records the heatmap of `scene` seen by `camera` (a `GpuCamera` parameter buffer) into `output`
     /// (`width` x `height`, Rgba8Unorm). Records nothing before the scene's first upload.
     pub fn record(
         &self,

@@ -281,7 +281,7 @@ pub struct GpuInstanceExtra {
     pub pad1: u32,
 }
 
-/// Scene-wide values: counts and the environment (a uniform buffer).
+/// Scene-wide values: counts and the environment.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 #[repr(C, align(16))]
 pub struct GpuSceneInfo {

@@ -22,7 +22,7 @@
 //! | 16 | per-instance extras | [`GpuInstanceExtra`] |
 //! | 17 | environment texels | `vec4<f32>` |
 //! | 18 | environment importance table | `f32` |
-//! | 19 | scene info (uniform) | [`GpuSceneInfo`] |
+//! | 19 | scene info | [`GpuSceneInfo`] |
 //! | 20 | light tree nodes (area tree, then punctual) | [`GpuLightTreeNode`] |
 //!
 //! Textures live in one storage buffer of texels (an atlas in a buffer) rather than a texture
@@ -99,44 +99,18 @@ pub struct GpuScene {
 
 const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE;
 
-/// The bindings of group(0), in order, with whether each is the uniform.
-const BINDINGS: [(u32, bool); 17] = [
-    (0, false),
-    (1, false),
-    (2, false),
-    (3, false),
-    (8, false),
-    (9, false),
-    (10, false),
-    (11, false),
-    (12, false),
-    (13, false),
-    (14, false),
-    (15, false),
-    (16, false),
-    (17, false),
-    (18, false),
-    (19, true),
-    (20, false),
-];
+/// The bindings of group(0), in order (every one a read-only storage buffer).
+const BINDINGS: [u32; 17] = [0, 1, 2, 3, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20];
 
 impl GpuScene {
     /// Empty buffers on `device`; the first [`upload_gpu_scene`] fills them.
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Self {
         let entries: Vec<_> = BINDINGS
             .iter()
-            .map(|&(binding, uniform)| wgpu::BindGroupLayoutEntry {
+            .map(|&binding| wgpu::BindGroupLayoutEntry {
                 binding,
                 visibility: wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE,
-                ty: wgpu::BindingType::Buffer {
-                    ty: if uniform {
-                        wgpu::BufferBindingType::Uniform
-                    } else {
-                        wgpu::BufferBindingType::Storage { read_only: true }
-                    },
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
+                ty: crate::passes::storage(true),
                 count: None,
             })
             .collect();
@@ -166,7 +140,7 @@ impl GpuScene {
             instance_extras: MirrorBuffer::new(d, "scene instance extras", STORAGE),
             env_texels: MirrorBuffer::new(d, "scene environment texels", STORAGE),
             env_table: MirrorBuffer::new(d, "scene environment table", STORAGE),
-            info_buffer: MirrorBuffer::new(d, "scene info", wgpu::BufferUsages::UNIFORM),
+            info_buffer: MirrorBuffer::new(d, "scene info", STORAGE),
             light_tree: MirrorBuffer::new(d, "scene light tree", STORAGE),
             area_tree: FlatTree::default(),
             punctual_tree: FlatTree::default(),
@@ -233,7 +207,7 @@ impl GpuScene {
         let entries: Vec<_> = BINDINGS
             .iter()
             .zip(buffers)
-            .map(|(&(binding, _), buffer)| wgpu::BindGroupEntry {
+            .map(|(&binding, buffer)| wgpu::BindGroupEntry {
                 binding,
                 resource: buffer.as_entire_binding(),
             })

@@ -15,10 +15,10 @@ pub struct AtrousPass {
 impl AtrousPass {
     /// The pipeline.
     pub fn new(device: &wgpu::Device) -> Result<Self, ShaderError> {
-        use super::{compute_entry as e, storage_texture, texture, uniform};
+        use super::{compute_entry as e, params, storage_texture, texture};
         let float = || texture(S::Float { filterable: false });
         let entries = [
-            e(0, uniform()),
+            e(0, params()),
             e(1, float()),
             e(2, float()),
             e(3, storage_texture(HDR_FORMAT)),
@@ -30,7 +30,7 @@ impl AtrousPass {
         })
     }
 
-    /// The bind group of one iteration: its uniform (with its step), the input (colour and
+    /// The bind group of one iteration: its parameters (with its step), the input (colour and
     /// variance), the edge data, the output, and the G-buffer's position and surface targets
     /// (roughness and metallic).
     pub fn bind_group(

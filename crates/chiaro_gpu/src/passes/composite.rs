@@ -32,7 +32,7 @@ pub fn constants() -> Vec<SharedConstant> {
     ]
 }
 
-/// The pass's uniform (mirrored by `CompositeParams` in `shaders/composite.wgsl`).
+/// The pass's parameters (mirrored by `CompositeParams` in `shaders/composite.wgsl`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 #[repr(C)]
 pub struct CompositeParams {
@@ -55,7 +55,7 @@ pub struct CompositePass {
 impl CompositePass {
     /// The pipeline.
     pub fn new(device: &wgpu::Device) -> Result<Self, ShaderError> {
-        use super::{compute_entry as e, storage, texture, uniform};
+        use super::{compute_entry as e, params, storage, texture};
         let float = S::Float { filterable: false };
         let entries = [
             e(0, texture(float)),
@@ -65,7 +65,7 @@ impl CompositePass {
             e(4, texture(S::Uint)),
             e(5, texture(S::Uint)),
             e(6, storage(false)),
-            e(7, uniform()),
+            e(7, params()),
             e(8, super::storage_texture(HDR_FORMAT)),
             e(9, texture(S::Uint)),
             e(10, storage(true)),

@@ -27,7 +27,7 @@ impl GbufferPass {
             entries: &[wgpu::BindGroupLayoutEntry {
                 binding: 0,
                 visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-                ty: super::uniform(),
+                ty: super::params(),
                 count: None,
             }],
         });

@@ -32,10 +32,14 @@ pub fn compute_entry(binding: u32, ty: wgpu::BindingType) -> wgpu::BindGroupLayo
     }
 }
 
-/// A uniform buffer binding.
-pub fn uniform() -> wgpu::BindingType {
+/// A pass's parameter block (camera, settings): a read-only storage buffer. chiaro binds no
+/// uniform buffers: lavapipe (Mesa 22) specialises a shader to the values of the uniforms its
+/// branches and loops read, compiling it again at every dispatch and keeping each copy until
+/// the process exits (6 to 10 MB a frame at 256x256); parameters in storage buffers are read
+/// as they are. The WGSL side declares them `var<storage, read>`.
+pub fn params() -> wgpu::BindingType {
     wgpu::BindingType::Buffer {
-        ty: wgpu::BufferBindingType::Uniform,
+        ty: wgpu::BufferBindingType::Storage { read_only: true },
         has_dynamic_offset: false,
         min_binding_size: None,
     }

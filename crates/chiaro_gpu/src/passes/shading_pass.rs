@@ -34,15 +34,15 @@ impl<K: ShadingKind> GbufferShadingPass<K> {
     /// [`SpecializedPipelines::specialize`].
     pub fn new(device: &wgpu::Device, scene: &GpuScene) -> Result<Self, ShaderError> {
         let name = K::NAME;
-        use super::{compute_entry as e, texture, uniform};
+        use super::{compute_entry as e, params, texture};
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some(&format!("{name} layout")),
             entries: &[
                 e(0, texture(S::Uint)),
                 e(1, texture(S::Uint)),
                 e(2, texture(S::Uint)),
-                e(3, uniform()),
-                e(4, uniform()),
+                e(3, params()),
+                e(4, params()),
                 e(5, super::storage_texture(HDR_FORMAT)),
             ],
         });

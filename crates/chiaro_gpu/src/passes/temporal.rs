@@ -38,14 +38,9 @@ pub struct TemporalPass {
 impl TemporalPass {
     /// The pipeline.
     pub fn new(device: &wgpu::Device) -> Result<Self, ShaderError> {
-        use super::{compute_entry as e, storage_texture, texture, uniform};
+        use super::{compute_entry as e, params, storage_texture, texture};
         let float = || texture(S::Float { filterable: false });
-        let mut entries = vec![
-            e(0, uniform()),
-            e(1, uniform()),
-            e(2, float()),
-            e(3, float()),
-        ];
+        let mut entries = vec![e(0, params()), e(1, params()), e(2, float()), e(3, float())];
         entries.extend((4..=10).map(|b| e(b, texture(S::Uint))));
         entries.extend([e(11, float()), e(12, float())]);
         entries.extend((13..=16).map(|b| e(b, storage_texture(HDR_FORMAT))));

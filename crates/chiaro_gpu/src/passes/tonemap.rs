@@ -8,7 +8,7 @@ use super::{ComputeStage, view};
 use crate::shaders::ShaderError;
 use crate::targets::{FrameTargets, LDR_FORMAT};
 
-/// The pass's uniform (mirrored by `TonemapParams` in `shaders/tonemap.wgsl`).
+/// The pass's parameters (mirrored by `TonemapParams` in `shaders/tonemap.wgsl`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 #[repr(C)]
 pub struct TonemapParams {
@@ -44,13 +44,13 @@ pub struct TonemapPass {
 impl TonemapPass {
     /// The pipeline.
     pub fn new(device: &wgpu::Device) -> Result<Self, ShaderError> {
-        use super::{compute_entry as e, texture, uniform};
+        use super::{compute_entry as e, params, texture};
         let entries = [
             e(
                 0,
                 texture(wgpu::TextureSampleType::Float { filterable: false }),
             ),
-            e(1, uniform()),
+            e(1, params()),
             e(2, super::storage_texture(LDR_FORMAT)),
         ];
         Ok(Self {

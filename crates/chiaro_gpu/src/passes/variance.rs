@@ -16,10 +16,10 @@ pub struct VariancePass {
 impl VariancePass {
     /// The pipeline.
     pub fn new(device: &wgpu::Device) -> Result<Self, ShaderError> {
-        use super::{compute_entry as e, storage_texture, texture, uniform};
+        use super::{compute_entry as e, params, storage_texture, texture};
         let float = || texture(S::Float { filterable: false });
         let entries = [
-            e(0, uniform()),
+            e(0, params()),
             e(1, float()),
             e(2, float()),
             e(3, float()),
@@ -30,7 +30,7 @@ impl VariancePass {
         })
     }
 
-    /// The pass's bind group: the uniform, the integrated colour, the moments, the edge data
+    /// The pass's bind group: the parameters, the integrated colour, the moments, the edge data
     /// and the output (colour and variance).
     pub fn bind_group(
         &self,
