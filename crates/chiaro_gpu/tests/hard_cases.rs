@@ -11,10 +11,8 @@
 //!   between the two GPU reference images below 3 x their combined noise (measured at 24x24,
 //!   64 frames of 4 paths: 1.4e-2 against a noise of 5.8e-2).
 //!
-//! Frame counts are kept low, and paths per pixel raised instead, because lavapipe (Mesa 22's
-//! CPU Vulkan) keeps about 6 MB of host memory per dispatch of a pass that traces rays until
-//! the process ends (llvmpipe's GL does not): a few thousand frames in one test binary would
-//! exhaust a 24 GB machine.
+//! Frame counts are kept low, and paths per pixel raised instead: on lavapipe, a frame's cost
+//! is mostly per pixel and path, so fewer, richer frames reach the same noise sooner.
 
 mod common;
 mod hard_cases_common;
