@@ -38,11 +38,7 @@ pub fn compute_entry(binding: u32, ty: wgpu::BindingType) -> wgpu::BindGroupLayo
 /// the process exits (6 to 10 MB a frame at 256x256); parameters in storage buffers are read
 /// as they are. The WGSL side declares them `var<storage, read>`.
 pub fn params() -> wgpu::BindingType {
-    wgpu::BindingType::Buffer {
-        ty: wgpu::BufferBindingType::Storage { read_only: true },
-        has_dynamic_offset: false,
-        min_binding_size: None,
-    }
+    storage(true)
 }
 
 /// A storage buffer binding.
