@@ -390,8 +390,8 @@ fn camera_pan_stays_close_to_the_reference() {
 const PAN_BOUND: f64 = 3e-2;
 
 /// The emitter does not smear across the ceiling as the view pans: the camera turns 8 degrees
-/// about its own up axis over 64 frames at 64 x 64 (0.2 pixels a frame, the bench's camera
-/// path), and the last frame against the converged reference of its own view has relMSE under
+/// about its own up axis over 64 frames at 64 x 64 (0.2 pixels a frame, a steady pan), and
+/// the last frame against the converged reference of its own view has relMSE under
 /// [`EMITTER_PAN_BOUND`], the whole image with the emitter's edge. Measured (reference 512 spp):
 /// 2.2e-2, against about 1e-2 for 64 frames of the still final view. When the resolve blended
 /// the history of every surface under motion, it was 9.5e-2: three or four ceiling pixels
