@@ -1,5 +1,5 @@
 //! The hard-case suite on the GPU: `builtin:hard-cases`, each case seen from its own camera
-//! (one world, so the pipelines compile once), in every mode.
+//! (one world, so the pipelines compile once; `scale` in its own), in every mode.
 //!
 //! - No mode writes a non-finite pixel in any case: not in the final image, and not in the
 //!   direct or indirect light before the composite's guard.
@@ -22,7 +22,7 @@ use chiaro_gpu::{FrameSettings, RenderMode, Renderer};
 use chiaro_scene::builtin::HARD_CASES;
 use chiaro_scene::load_scene;
 use glam::Vec3;
-use hard_cases_common::{mode, settings, view_case};
+use hard_cases_common::{CaseWorlds, mode, settings, view_case};
 
 fn all_finite(pixels: &[Vec3]) -> bool {
     pixels.iter().all(|p| p.is_finite())
@@ -31,14 +31,13 @@ fn all_finite(pixels: &[Vec3]) -> bool {
 #[test]
 fn no_mode_writes_a_non_finite_pixel_in_any_case() {
     let Some(gpu) = common::gpu() else { return };
-    let mut world = World::new();
-    load_scene(&mut world, "builtin:hard-cases").unwrap();
+    let mut worlds = CaseWorlds::load();
     let mut renderer = Renderer::new(gpu);
     for case in HARD_CASES {
-        view_case(&mut world, case);
+        let world = worlds.view(case);
         for m in RenderMode::ALL {
             let out = renderer
-                .render(&mut world, &settings(24, 3, 5, mode(m)))
+                .render(world, &settings(24, 3, 5, mode(m)))
                 .unwrap();
             let what = format!("{case}, {}", m.name());
             assert!(all_finite(&out.hdr), "{what}: non-finite image pixel");

@@ -3,7 +3,8 @@
 
 use bevy_ecs::prelude::{Entity, Name, World};
 use chiaro_gpu::{FrameSettings, RenderMode, RenderSettings};
-use chiaro_scene::{ActiveCamera, Camera};
+use chiaro_scene::builtin::{CASES_ALONE, hard_case_scene};
+use chiaro_scene::{ActiveCamera, Camera, load_scene};
 use glam::Vec3;
 
 /// Makes the camera of `case` the active one.
@@ -17,6 +18,43 @@ pub fn view_case(world: &mut World, case: &str) {
         .map(|(e, _, _)| e)
         .unwrap_or_else(|| panic!("no camera named '{name}'"));
     world.insert_resource(ActiveCamera(entity));
+}
+
+/// The worlds the suite sees its cases in: one of `builtin:hard-cases` for every case it holds
+/// (so a renderer switches cameras, not scenes, between them), and one of its own for each case
+/// it leaves out (`CASES_ALONE`).
+#[allow(dead_code)]
+pub struct CaseWorlds {
+    combined: World,
+    alone: Vec<(&'static str, World)>,
+}
+
+#[allow(dead_code)]
+impl CaseWorlds {
+    /// Loads the combined scene and each case that lives alone.
+    pub fn load() -> Self {
+        let mut combined = World::new();
+        load_scene(&mut combined, "builtin:hard-cases").unwrap();
+        let alone = CASES_ALONE
+            .into_iter()
+            .map(|case| {
+                let mut world = World::new();
+                load_scene(&mut world, &hard_case_scene(case)).unwrap();
+                (case, world)
+            })
+            .collect();
+        Self { combined, alone }
+    }
+
+    /// The world `case` is seen in, its camera made the active one.
+    pub fn view(&mut self, case: &str) -> &mut World {
+        let world = match self.alone.iter_mut().find(|(c, _)| *c == case) {
+            Some((_, world)) => world,
+            None => &mut self.combined,
+        };
+        view_case(world, case);
+        world
+    }
 }
 
 /// `frames` frames of `size` x `size` with `seed`.

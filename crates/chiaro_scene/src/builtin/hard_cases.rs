@@ -1,6 +1,13 @@
 //! Numerically hard cases, each a small group with its own camera, laid out far apart so they
-//! do not light or shadow one another. `builtin:hard-cases` holds them all (its camera is the
-//! first case's); `builtin:hard-cases?case=NAME` holds one, with the shared sun and sky.
+//! do not light or shadow one another. `builtin:hard-cases` holds them all but those of
+//! [`CASES_ALONE`] (its camera is the first case's); `builtin:hard-cases?case=NAME` holds one,
+//! with the shared sun and sky.
+//!
+//! `scale` lives alone, at the origin: its 1e5 box would light and shadow every other case
+//! anywhere near them, and 5e4 or more from the origin, where it would not, the spacing of f32
+//! values (0.004 at 5e4, 0.016 at 2e5) is wider than its 1e-3 cube, so no f32 world position
+//! could hold the cube. Its box's top is a grid graded toward the cube (see
+//! [`super::shapes::graded_box`]).
 //!
 //! | case | what it stresses |
 //! |---|---|
@@ -13,7 +20,7 @@
 //! | `tiny-emitter` | a 1 cm emitter of radiance 1e5 over a floor |
 //! | `degenerate` | a mesh with zero-area and repeated-index triangles that import drops |
 
-use glam::{Quat, Vec3};
+use glam::{Quat, Vec2, Vec3};
 
 use crate::components::{Camera, Light, LightKind, Projection};
 use crate::environment::Environment;
@@ -24,7 +31,7 @@ use crate::scene_builder::{Node, SceneBuilder};
 use crate::transform::Transform;
 
 use super::Params;
-use super::shapes::{cuboid, floor, icosphere, quad};
+use super::shapes::{cuboid, floor, graded_box, icosphere, quad};
 
 /// The cases, in layout order.
 pub const HARD_CASES: [&str; 8] = [
@@ -38,6 +45,20 @@ pub const HARD_CASES: [&str; 8] = [
     "degenerate",
 ];
 
+/// The cases that `builtin:hard-cases` leaves out: each is seen in its own scene,
+/// `builtin:hard-cases?case=NAME`.
+pub const CASES_ALONE: [&str; 1] = ["scale"];
+
+/// The scene in which `case` is seen from its camera: `builtin:hard-cases`, or the case's own
+/// for one of [`CASES_ALONE`].
+pub fn hard_case_scene(case: &str) -> String {
+    if CASES_ALONE.contains(&case) {
+        format!("builtin:hard-cases?case={case}")
+    } else {
+        "builtin:hard-cases".to_owned()
+    }
+}
+
 /// Distance between neighbouring cases along X.
 const SPACING: f32 = 100.0;
 /// Translation of the far copy relative to the lit group.
@@ -48,7 +69,8 @@ fn origin(case: &str) -> Vec3 {
     match case {
         "far-copy" => origin("lit-group") + FAR_OFFSET,
         // The 1e5 box would cover every other case: it lives far away along -Z.
-        "scale" => Vec3::new(0.0, 0.0, -2.0e5),
+        // Alone in its scene (see the module's doc).
+        "scale" => Vec3::ZERO,
         _ => {
             let k = HARD_CASES.iter().position(|c| *c == case).unwrap_or(0);
             Vec3::new(k as f32 * SPACING, 0.0, 0.0)
@@ -191,9 +213,11 @@ fn build_case(b: &mut SceneBuilder, case: &str, grey: MaterialId) -> Result<(), 
         "scale" => {
             c.mesh(
                 "huge box",
-                cuboid(
+                graded_box(
                     Vec3::new(-5.0e4, -1.0e5, -5.0e4),
                     Vec3::new(5.0e4, 0.0, 5.0e4),
+                    Vec2::ZERO,
+                    5.0e-4,
                 ),
                 c.grey,
                 Transform::IDENTITY,
@@ -346,7 +370,10 @@ pub fn degenerate_mesh() -> MeshData {
 /// Builds all cases, or the one named by the `case` parameter.
 pub(super) fn build(b: &mut SceneBuilder, params: &mut Params) -> Result<(), SceneError> {
     let cases: Vec<&str> = match params.text("case") {
-        None => HARD_CASES.to_vec(),
+        None => HARD_CASES
+            .into_iter()
+            .filter(|c| !CASES_ALONE.contains(c))
+            .collect(),
         Some(name) => match HARD_CASES.iter().find(|c| **c == name) {
             Some(c) => vec![*c],
             None => {

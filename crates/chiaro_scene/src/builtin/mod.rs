@@ -5,7 +5,7 @@
 //! |---|---|---|
 //! | `cornell` | the Cornell box, published dimensions and reflectances, emissive quad light | |
 //! | `furnace` | inside a closed diffuse sphere of albedo 0.5 emitting 0.5: radiance 1 everywhere | |
-//! | `hard-cases` | numerically hard cases side by side, each with its camera | `case` (one case alone) |
+//! | `hard-cases` | numerically hard cases side by side, each with its camera (`scale` only alone) | `case` (one case alone) |
 //! | `instances` | one mesh instanced on a grid | `n` (instances, default 1024) |
 //! | `many-lights` | small emissive quads and punctual lights over a floor | `quads`, `lights` (256 each) |
 //!
@@ -23,7 +23,7 @@ use std::collections::BTreeMap;
 use crate::error::{Fault, SceneError};
 use crate::scene_builder::SceneBuilder;
 
-pub use hard_cases::HARD_CASES;
+pub use hard_cases::{CASES_ALONE, HARD_CASES, hard_case_scene};
 
 /// Names of the built-in scenes.
 pub const BUILTIN_SCENES: [&str; 5] = [

@@ -61,6 +61,72 @@ pub fn closed_quads(faces: &[[Vec3; 4]]) -> MeshData {
     data
 }
 
+/// Coordinates from `lo` to `hi` (both included) that crowd around `focus`: focus +- finest x
+/// 2^k for k = 0, 1, ... wherever they fall strictly inside, so each gap is at most about its
+/// distance from the focus.
+fn graded_lines(lo: f32, hi: f32, focus: f32, finest: f32) -> Vec<f32> {
+    let mut lines = vec![lo, hi];
+    let mut step = finest;
+    while focus - step > lo || focus + step < hi {
+        lines.extend(
+            [focus - step, focus + step]
+                .into_iter()
+                .filter(|x| *x > lo && *x < hi),
+        );
+        step *= 2.0;
+    }
+    lines.sort_by(f32::total_cmp);
+    lines
+}
+
+/// An axis-aligned box from `min` to `max` whose top and bottom faces are grids graded toward
+/// `focus` (x, z), cells from `finest` wide there, doubling outward, and whose sides follow
+/// the same grid lines (no T-junctions). Near the focus every triangle is about as small as
+/// its distance from it, so f32 resolves a point there to the precision of that distance,
+/// not to that of the box's size (two triangles 1e5 wide seen from 1e-3 away lose every
+/// digit of their plane where the camera looks).
+pub fn graded_box(min: Vec3, max: Vec3, focus: Vec2, finest: f32) -> MeshData {
+    let xs = graded_lines(min.x, max.x, focus.x, finest);
+    let zs = graded_lines(min.z, max.z, focus.y, finest);
+    let mut data = MeshData::default();
+    for x in xs.windows(2) {
+        for z in zs.windows(2) {
+            for (y, facing) in [(max.y, Vec3::Y), (min.y, Vec3::NEG_Y)] {
+                let c = [
+                    Vec3::new(x[0], y, z[0]),
+                    Vec3::new(x[1], y, z[0]),
+                    Vec3::new(x[1], y, z[1]),
+                    Vec3::new(x[0], y, z[1]),
+                ];
+                append_quad(&mut data, c, facing);
+            }
+        }
+    }
+    for (x, facing) in [(min.x, Vec3::NEG_X), (max.x, Vec3::X)] {
+        for z in zs.windows(2) {
+            let c = [
+                Vec3::new(x, min.y, z[0]),
+                Vec3::new(x, min.y, z[1]),
+                Vec3::new(x, max.y, z[1]),
+                Vec3::new(x, max.y, z[0]),
+            ];
+            append_quad(&mut data, c, facing);
+        }
+    }
+    for (z, facing) in [(min.z, Vec3::NEG_Z), (max.z, Vec3::Z)] {
+        for x in xs.windows(2) {
+            let c = [
+                Vec3::new(x[0], min.y, z),
+                Vec3::new(x[1], min.y, z),
+                Vec3::new(x[1], max.y, z),
+                Vec3::new(x[0], max.y, z),
+            ];
+            append_quad(&mut data, c, facing);
+        }
+    }
+    data
+}
+
 /// An axis-aligned box from `min` to `max`, six outward-facing quads (12 triangles).
 pub fn cuboid(min: Vec3, max: Vec3) -> MeshData {
     let corner = |x: usize, y: usize, z: usize| {
@@ -230,6 +296,43 @@ mod tests {
         assert_eq!(outward_fraction(&data, Vec3::new(0.5, 1.0, 1.5)), 1.0);
         for (p, n) in data.positions.iter().zip(data.normals.as_ref().unwrap()) {
             assert!(n.dot(*p - Vec3::new(0.5, 1.0, 1.5)) > 0.0);
+        }
+    }
+
+    #[test]
+    fn graded_box_is_closed_outward_and_fine_near_its_focus() {
+        let (min, max) = (Vec3::new(-100.0, -50.0, -80.0), Vec3::new(60.0, 0.0, 90.0));
+        let (focus, finest) = (Vec2::new(3.0, -2.0), 0.01);
+        let data = graded_box(min, max, focus, finest);
+        assert_eq!(outward_fraction(&data, 0.5 * (min + max)), 1.0);
+        // Closed, no T-junctions: every edge belongs to exactly two triangles.
+        let idx = data.indices.as_ref().unwrap();
+        let key = |i: u32| data.positions[i as usize].to_array().map(f32::to_bits);
+        let mut edges = HashMap::new();
+        for t in idx.chunks_exact(3) {
+            for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+                let (a, b) = (key(a), key(b));
+                *edges
+                    .entry(if a < b { (a, b) } else { (b, a) })
+                    .or_insert(0) += 1;
+            }
+        }
+        assert!(edges.values().all(|&n| n == 2));
+        // Every top triangle is at most about as large as its distance from the focus.
+        let f = Vec3::new(focus.x, max.y, focus.y);
+        for t in idx.chunks_exact(3) {
+            let p = [t[0], t[1], t[2]].map(|i| data.positions[i as usize]);
+            if p.iter().any(|q| q.y != max.y) {
+                continue;
+            }
+            let longest = (0..3)
+                .map(|k| p[k].distance(p[(k + 1) % 3]))
+                .fold(0.0, f32::max);
+            let nearest = p
+                .iter()
+                .map(|q| q.distance(f))
+                .fold(f32::INFINITY, f32::min);
+            assert!(longest <= 2.0 * nearest.max(2.0 * finest), "{p:?}");
         }
     }
 
