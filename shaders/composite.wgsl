@@ -3,7 +3,8 @@
 // Per pixel: where the camera sees no surface, the environment (which the direct pass wrote);
 // where it sees one, its emission plus the light it reflects: the direct and indirect estimates
 // as they are (modes direct, reference and naive, and realtime without the denoiser), or the
-// denoiser's filtered lighting multiplied back by the demodulation albedo (realtime). The
+// denoiser's filtered lighting multiplied back by the demodulation albedo plus the punctual
+// lights' exact part, which the denoiser leaves out (realtime). The
 // running mean of independent frames is a progressive Monte Carlo estimate. The realtime mode
 // with its denoiser resolves instead: the G-buffer takes one jittered point per pixel, so the
 // emission, the environment and the albedo at silhouettes alias from frame to frame, and the
@@ -45,6 +46,8 @@ struct CompositeParams {
 @group(0) @binding(11) var<storage, read_write> resolve_next: array<vec4<f32>>;
 @group(0) @binding(12) var<storage, read> resolve_previous_surface: array<u32>;
 @group(0) @binding(13) var<storage, read_write> resolve_next_surface: array<u32>;
+// The punctual lights' exact part of direct_light, which the denoiser leaves out of its lighting.
+@group(0) @binding(14) var direct_punctual: texture_2d<f32>;
 
 // The surface a pixel sees: its instance + 1, or 0 where it sees none.
 fn resolve_surface(pixel: vec2<i32>) -> u32 {
@@ -69,7 +72,8 @@ fn frame_radiance(pixel: vec2<i32>) -> vec3<f32> {
         return g.emission + direct + textureLoad(indirect_light, pixel, 0).xyz;
     }
     let lighting = textureLoad(filtered_lighting, pixel, 0).xyz;
-    return g.emission + lighting * demodulation_albedo(g.base_color);
+    return g.emission + lighting * demodulation_albedo(g.base_color)
+        + textureLoad(direct_punctual, pixel, 0).xyz;
 }
 
 // This frame's radiance with non-finite values replaced by 0.

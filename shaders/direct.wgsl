@@ -9,6 +9,10 @@
 // along the geometric normal (Wachter and Binder, "A Fast and Robust Method for Avoiding
 // Self-Intersection", Ray Tracing Gems, 2019). Where the camera sees no surface, the
 // environment along the camera ray. The same estimate as chiaro_reference with direct_only.
+//
+// Apart, in direct_punctual_out: the punctual lights' part of the estimate where every one is
+// evaluated (punctual_lights_all_evaluated: no light picked at random, so no sampling noise),
+// else 0. The realtime denoiser leaves it out of the lighting it filters and adds it back.
 
 #import lib/generated.wgsl
 #import lib/float.wgsl
@@ -42,6 +46,7 @@ fn light_tree_sampling() -> bool {
 
 @group(1) @binding(4) var<storage, read> params: DirectParams;
 @group(1) @binding(5) var direct_out: texture_storage_2d<rgba32float, write>;
+@group(1) @binding(6) var direct_punctual_out: texture_storage_2d<rgba32float, write>;
 
 // One BRDF sample: the emission or environment it reaches, weighted against light sampling.
 fn brdf_light(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
@@ -67,16 +72,22 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if !gbuffer_covered(texels) {
         let ray = camera_ray(camera, vec2<f32>(id.xy) + camera.jitter);
         textureStore(direct_out, pixel, vec4<f32>(environment_seen(ray.direction), 1.0));
+        textureStore(direct_punctual_out, pixel, vec4<f32>(0.0));
         return;
     }
     let g = gbuffer_unpack(texels);
     var radiance = vec3<f32>(0.0);
+    var punctual = vec3<f32>(0.0);
     if g.shades && params.lights != 0u {
         let s = gbuffer_shading(g, camera);
         let index = id.y * size.x + id.x;
         var rng = pcg32_new(vec2<u32>(params.seed_lo, params.seed_hi), vec2<u32>(index, params.frame));
-        radiance += next_event(s, &rng);
+        // next_event's two halves, in its order.
+        punctual = punctual_light(s, &rng);
+        radiance = punctual + area_light(s, &rng);
         radiance += brdf_light(s, &rng);
     }
     textureStore(direct_out, pixel, vec4<f32>(radiance, 1.0));
+    let exact = select(vec3<f32>(0.0), punctual, punctual_lights_all_evaluated());
+    textureStore(direct_punctual_out, pixel, vec4<f32>(exact, 1.0));
 }

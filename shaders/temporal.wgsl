@@ -1,7 +1,11 @@
 // Temporal accumulation of the denoiser, after SVGF (Schied et al., "Spatiotemporal
 // Variance-Guided Filtering", HPG 2017, section 4.1): this frame's lighting, demodulated by
 // the surface albedo, is blended into the history reprojected through the G-buffer's motion
-// vectors (camera and object motion), with the moments of its luminance.
+// vectors (camera and object motion), with the moments of its luminance. The lighting is the
+// direct and indirect light less the punctual lights' part when it is exact (direct_punctual:
+// every light evaluated, no sampling noise), which the composite adds back unfiltered: filtered
+// with the rest, a sun's sharp shadow would be blurred by the variance of the sampled light
+// (SVGF filters its direct and indirect light apart for the same reason).
 //
 // - Reprojection: the previous frame's 2 x 2 texels around the point the motion vector gives,
 //   each accepted only if the previous G-buffer saw the same instance there, with a normal
@@ -42,6 +46,8 @@
 @group(0) @binding(14) var moments_out: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(15) var edges_out: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(16) var lighting_out: texture_storage_2d<rgba32float, write>;
+// The part of direct_light from punctual lights that has no sampling noise: left out here.
+@group(0) @binding(17) var direct_punctual: texture_2d<f32>;
 
 // Longest history counted (the weight stops falling at the floor long before).
 const MAX_HISTORY: f32 = 1024.0;
@@ -143,7 +149,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if any(p >= size) {
         return;
     }
-    let light = textureLoad(direct_light, p, 0).xyz + textureLoad(indirect_light, p, 0).xyz;
+    let light = textureLoad(direct_light, p, 0).xyz - textureLoad(direct_punctual, p, 0).xyz
+        + textureLoad(indirect_light, p, 0).xyz;
     let texels = current_texels(p);
     if !shades(texels) {
         let through = select(vec3<f32>(0.0), light, usable(light));

@@ -124,13 +124,19 @@ fn sample_punctual(light: GpuLight, p: vec3<f32>) -> LightSample {
     return light_sample_none();
 }
 
+// Whether punctual_light evaluates every punctual light (so its estimate has no sampling
+// noise) rather than one picked at random.
+fn punctual_lights_all_evaluated() -> bool {
+    return scene_info.light_count <= ALL_PUNCTUAL_LIGHTS_MAX;
+}
+
 // Every punctual light when there are few, else one picked (over its probability): by power,
 // or a directional light by power with their share and else a point or spot light by the tree.
 fn punctual_light(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
     let count = scene_info.light_count;
     let any_kind = FEATURE_POINT_LIGHTS || FEATURE_SPOT_LIGHTS || FEATURE_DIRECTIONAL_LIGHTS;
     var total = vec3<f32>(0.0);
-    if count <= ALL_PUNCTUAL_LIGHTS_MAX {
+    if punctual_lights_all_evaluated() {
         if any_kind {
             for (var i = 0u; i < count; i++) {
                 total += light_contribution(s, sample_punctual(scene_lights[i], s.position)).xyz;

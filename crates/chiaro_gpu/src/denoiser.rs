@@ -1,7 +1,10 @@
 //! The realtime mode's denoiser, after SVGF (Schied et al., "Spatiotemporal Variance-Guided
 //! Filtering", HPG 2017): three passes over the frame's direct and indirect light, demodulated
 //! by the surface albedo (`shaders/lib/demodulate.wgsl`), filtered, and left for the composite
-//! to multiply back.
+//! to multiply back. The punctual lights' part of the direct light is left out when it is exact
+//! (`FrameTargets::direct_punctual`: every light evaluated, no sampling noise) and the
+//! composite adds it back unfiltered, so that the noise of the sampled light does not blur a
+//! sun's sharp shadows (SVGF filters direct and indirect light apart for the same reason).
 //!
 //! 1. `temporal`: reprojection through the motion vectors with disocclusion tests against the
 //!    previous frame's G-buffer (kept here as copies), a moving average of the lighting and of
@@ -309,8 +312,8 @@ impl Denoiser {
             .collect())
     }
 
-    /// The last frame's lighting before filtering: direct + indirect over the demodulation
-    /// albedo where a surface shades, the light itself elsewhere (as computed: a NaN or an
+    /// The last frame's lighting before filtering: direct + indirect, less the exact punctual
+    /// part, over the demodulation albedo where a surface shades, the light itself elsewhere (as computed: a NaN or an
     /// infinity from the input shows here).
     pub fn read_lighting(
         &self,

@@ -75,6 +75,12 @@ pub struct FrameTargets {
     /// This frame's direct light reflected by the surface seen (linear radiance, emission
     /// excluded); where no surface is seen, the environment.
     pub direct: Target,
+    /// The part of `direct` from punctual lights where the pass evaluates every one of them
+    /// (none picked at random: no sampling noise), 0 elsewhere and where there are more
+    /// punctual lights than it evaluates. The denoiser filters the rest of the lighting and
+    /// adds this back unfiltered, so a sun's sharp shadow is not blurred by the noise of the
+    /// sampled light around it.
+    pub direct_punctual: Target,
     /// This frame's indirect light reflected by the surface seen (linear radiance, the mean of
     /// the frame's paths; in naive mode, all the light the surface reflects).
     pub indirect: Target,
@@ -108,6 +114,13 @@ impl FrameTargets {
             motion: Target::new(device, "gbuffer motion", MOTION_FORMAT, size, gbuffer),
             depth: Target::new(device, "gbuffer depth", DEPTH_FORMAT, size, gbuffer),
             direct: Target::new(device, "direct light", HDR_FORMAT, size, storage),
+            direct_punctual: Target::new(
+                device,
+                "direct punctual light",
+                HDR_FORMAT,
+                size,
+                storage,
+            ),
             indirect: Target::new(device, "indirect light", HDR_FORMAT, size, storage),
             hdr: Target::new(device, "hdr image", HDR_FORMAT, size, storage),
             ldr: Target::new(device, "ldr image", LDR_FORMAT, size, storage),

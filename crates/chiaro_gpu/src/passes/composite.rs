@@ -72,6 +72,7 @@ impl CompositePass {
             e(11, storage(false)),
             e(12, storage(true)),
             e(13, storage(false)),
+            e(14, texture(float)),
         ];
         Ok(Self {
             stage: ComputeStage::new(device, "composite", &entries)?,
@@ -105,6 +106,7 @@ impl CompositePass {
                 targets.resolve[1 - parity].as_entire_binding(),
                 targets.resolve_surface[parity].as_entire_binding(),
                 targets.resolve_surface[1 - parity].as_entire_binding(),
+                view(&targets.direct_punctual.view),
             ],
         )
     }

@@ -1,6 +1,7 @@
 //! `direct`: one frame's direct-light estimate per pixel from the G-buffer (see
 //! `shaders/direct.wgsl`): the light the surface reflects from punctual lights, one
-//! MIS-weighted area-light sample and one BRDF sample, each light sample with one shadow ray.
+//! MIS-weighted area-light sample and one BRDF sample, each light sample with one shadow ray;
+//! and apart, the punctual lights' part when it has no sampling noise (every light evaluated).
 
 use bytemuck::{Pod, Zeroable};
 
@@ -32,14 +33,16 @@ pub struct DirectParams {
     pub pad: [u32; 3],
 }
 
-/// Selects the direct pass's shader and output.
+/// Selects the direct pass's shader and outputs: the direct light, and the part of it from
+/// punctual lights when every one is evaluated.
 pub struct DirectKind;
 
 impl ShadingKind for DirectKind {
     const NAME: &'static str = "direct";
+    const OUTPUTS: u32 = 2;
 
-    fn output(targets: &FrameTargets) -> &Target {
-        &targets.direct
+    fn outputs(targets: &FrameTargets) -> Vec<&Target> {
+        vec![&targets.direct, &targets.direct_punctual]
     }
 }
 

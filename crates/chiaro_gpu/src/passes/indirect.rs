@@ -45,8 +45,10 @@ pub struct IndirectKind;
 impl ShadingKind for IndirectKind {
     const NAME: &'static str = "indirect";
 
-    fn output(targets: &FrameTargets) -> &Target {
-        &targets.indirect
+    const OUTPUTS: u32 = 1;
+
+    fn outputs(targets: &FrameTargets) -> Vec<&Target> {
+        vec![&targets.indirect]
     }
 }
 

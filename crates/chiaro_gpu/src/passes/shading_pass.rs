@@ -1,7 +1,7 @@
 //! What the `direct` and `indirect` passes share: a compute shader over the G-buffer, one
 //! invocation per pixel, with the scene in group 0 and, in group 1, the G-buffer's position,
 //! surface and emission targets, the camera (`shaders/lib/gbuffer_inputs.wgsl`), the pass's
-//! parameters and the HDR image it writes.
+//! parameters and the HDR images it writes.
 
 use std::marker::PhantomData;
 
@@ -12,12 +12,14 @@ use crate::shaders::ShaderError;
 use crate::specialization::{PipelineFeatures, SpecializedPipelines};
 use crate::targets::{FrameTargets, HDR_FORMAT, Target};
 
-/// Which G-buffer shading pass: its shader and the image it writes.
+/// Which G-buffer shading pass: its shader and the images it writes.
 pub trait ShadingKind {
     /// The pass's name: its shader is `shaders/NAME.wgsl`, its wgpu objects are labelled with it.
     const NAME: &'static str;
-    /// The image the pass writes.
-    fn output(targets: &FrameTargets) -> &Target;
+    /// The images the pass writes, bound from binding 5 on in this order.
+    fn outputs(targets: &FrameTargets) -> Vec<&Target>;
+    /// How many images [`Self::outputs`] gives.
+    const OUTPUTS: u32;
 }
 
 /// A compute pass that shades the G-buffer's pixels (see [`ShadingKind`]), with one pipeline
@@ -35,16 +37,17 @@ impl<K: ShadingKind> GbufferShadingPass<K> {
     pub fn new(device: &wgpu::Device, scene: &GpuScene) -> Result<Self, ShaderError> {
         let name = K::NAME;
         use super::{compute_entry as e, params, texture};
+        let mut entries = vec![
+            e(0, texture(S::Uint)),
+            e(1, texture(S::Uint)),
+            e(2, texture(S::Uint)),
+            e(3, params()),
+            e(4, params()),
+        ];
+        entries.extend((0..K::OUTPUTS).map(|k| e(5 + k, super::storage_texture(HDR_FORMAT))));
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some(&format!("{name} layout")),
-            entries: &[
-                e(0, texture(S::Uint)),
-                e(1, texture(S::Uint)),
-                e(2, texture(S::Uint)),
-                e(3, params()),
-                e(4, params()),
-                e(5, super::storage_texture(HDR_FORMAT)),
-            ],
+            entries: &entries,
         });
         let module = super::shader_module(device, &format!("{name}.wgsl"))?;
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -71,23 +74,28 @@ impl<K: ShadingKind> GbufferShadingPass<K> {
             binding,
             resource: wgpu::BindingResource::TextureView(view),
         };
+        let mut entries = vec![
+            view(0, &targets.position.view),
+            view(1, &targets.surface.view),
+            view(2, &targets.emission.view),
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: camera.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 4,
+                resource: params.as_entire_binding(),
+            },
+        ];
+        entries.extend(
+            (5..)
+                .zip(K::outputs(targets))
+                .map(|(b, t)| view(b, &t.view)),
+        );
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some(&format!("{} bind group", K::NAME)),
             layout: &self.layout,
-            entries: &[
-                view(0, &targets.position.view),
-                view(1, &targets.surface.view),
-                view(2, &targets.emission.view),
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: camera.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: params.as_entire_binding(),
-                },
-                view(5, &K::output(targets).view),
-            ],
+            entries: &entries,
         })
     }
 

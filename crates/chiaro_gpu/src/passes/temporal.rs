@@ -44,6 +44,7 @@ impl TemporalPass {
         entries.extend((4..=10).map(|b| e(b, texture(S::Uint))));
         entries.extend([e(11, float()), e(12, float())]);
         entries.extend((13..=16).map(|b| e(b, storage_texture(HDR_FORMAT))));
+        entries.push(e(17, float()));
         Ok(Self {
             stage: ComputeStage::new(device, "temporal", &entries)?,
         })
@@ -72,6 +73,7 @@ impl TemporalPass {
             r.moments,
             r.edges,
             r.lighting,
+            &targets.direct_punctual.view,
         ];
         let mut resources = vec![
             r.camera.as_entire_binding(),
