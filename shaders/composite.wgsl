@@ -72,8 +72,10 @@ fn frame_radiance(pixel: vec2<i32>) -> vec3<f32> {
         return g.emission + direct + textureLoad(indirect_light, pixel, 0).xyz;
     }
     let lighting = textureLoad(filtered_lighting, pixel, 0).xyz;
+    // A non-finite exact part is dropped alone (the temporal pass kept it out of history).
+    let punctual = textureLoad(direct_punctual, pixel, 0).xyz;
     return g.emission + lighting * demodulation_albedo(g.base_color)
-        + textureLoad(direct_punctual, pixel, 0).xyz;
+        + select(vec3<f32>(0.0), punctual, vec3_is_finite(punctual));
 }
 
 // This frame's radiance with non-finite values replaced by 0.

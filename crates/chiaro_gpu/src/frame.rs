@@ -321,7 +321,7 @@ impl Frame {
             poison: u32::from(input.poison),
             light_sampling: light_sampling(s),
             firefly_clamp: if s.mode == RenderMode::Realtime {
-                s.firefly_clamp
+                s.firefly_clamp / s.exposure
             } else {
                 0.0
             },
