@@ -24,6 +24,7 @@
 #import lib/gbuffer_inputs.wgsl
 #import lib/surface.wgsl
 #import lib/next_event.wgsl
+#import lib/color.wgsl
 
 // chiaro_gpu::passes::direct::DirectParams.
 struct DirectParams {
@@ -34,9 +35,11 @@ struct DirectParams {
     lights: u32,
     // LIGHT_SAMPLING_POWER or LIGHT_SAMPLING_TREE.
     light_sampling: u32,
+    // Most luminance of the sampled part of the estimate (all but the exact punctual part);
+    // 0: off.
+    firefly_clamp: f32,
     pad0: u32,
     pad1: u32,
-    pad2: u32,
 }
 
 // lib/next_event.wgsl's hook.
@@ -84,8 +87,13 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         var rng = pcg32_new(vec2<u32>(params.seed_lo, params.seed_hi), vec2<u32>(index, params.frame));
         // next_event's two halves, in its order.
         punctual = punctual_light(s, &rng);
-        radiance = punctual + area_light(s, &rng);
-        radiance += brdf_light(s, &rng);
+        let area = area_light(s, &rng);
+        let brdf = brdf_light(s, &rng);
+        if punctual_lights_all_evaluated() {
+            radiance = punctual + clamp_luminance(area + brdf, params.firefly_clamp);
+        } else {
+            radiance = clamp_luminance(punctual + area + brdf, params.firefly_clamp);
+        }
     }
     textureStore(direct_out, pixel, vec4<f32>(radiance, 1.0));
     let exact = select(vec3<f32>(0.0), punctual, punctual_lights_all_evaluated());

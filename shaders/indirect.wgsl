@@ -153,16 +153,7 @@ fn trace_path(x0: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
         }
         s = next.shading;
     }
-    return clamp_firefly(total);
-}
-
-// The path's contribution, scaled down to a luminance of `firefly_clamp` when above it.
-fn clamp_firefly(total: vec3<f32>) -> vec3<f32> {
-    let y = luminance(total);
-    if params.firefly_clamp > 0.0 && y > params.firefly_clamp {
-        return total * (params.firefly_clamp / y);
-    }
-    return total;
+    return clamp_luminance(total, params.firefly_clamp);
 }
 
 @compute @workgroup_size(8, 8)

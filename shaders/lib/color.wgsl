@@ -8,6 +8,16 @@ fn luminance(rgb: vec3<f32>) -> f32 {
     return dot(rgb, vec3<f32>(LUMINANCE_R, LUMINANCE_G, LUMINANCE_B));
 }
 
+// The colour scaled down to a luminance of `most` when above it (its hue kept); `most` = 0:
+// as it is. The realtime mode's firefly clamp.
+fn clamp_luminance(rgb: vec3<f32>, most: f32) -> vec3<f32> {
+    let y = luminance(rgb);
+    if most > 0.0 && y > most {
+        return rgb * (most / y);
+    }
+    return rgb;
+}
+
 // Decodes one sRGB-encoded channel in [0, 1] to linear.
 fn srgb_to_linear(encoded: f32) -> f32 {
     if encoded <= 0.04045 {

@@ -304,7 +304,8 @@ impl Frame {
             seed_hi,
             lights: u32::from(!naive),
             light_sampling: light_sampling(s),
-            pad: [0; 3],
+            firefly_clamp: firefly_clamp(s),
+            pad: [0; 2],
         };
         queue.write_buffer(&self.direct_params, 0, bytemuck::bytes_of(&direct));
         let indirect = IndirectParams {
@@ -320,11 +321,7 @@ impl Frame {
             naive: u32::from(naive),
             poison: u32::from(input.poison),
             light_sampling: light_sampling(s),
-            firefly_clamp: if s.mode == RenderMode::Realtime {
-                s.firefly_clamp / s.exposure
-            } else {
-                0.0
-            },
+            firefly_clamp: firefly_clamp(s),
             pad: [0; 3],
         };
         queue.write_buffer(&self.indirect_params, 0, bytemuck::bytes_of(&indirect));
@@ -455,6 +452,16 @@ fn new_encoder(device: &wgpu::Device) -> wgpu::CommandEncoder {
     device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
         label: Some("frame encoder"),
     })
+}
+
+/// The passes' `firefly_clamp` for `settings`: the clamp on scene luminance in realtime mode
+/// (the setting is in units of display white at the exposure), 0 (off) in the other modes.
+fn firefly_clamp(settings: &FrameSettings) -> f32 {
+    if settings.mode == RenderMode::Realtime {
+        settings.firefly_clamp / settings.exposure
+    } else {
+        0.0
+    }
 }
 
 /// The passes' `light_sampling` for `settings`.

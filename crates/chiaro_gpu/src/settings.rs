@@ -132,15 +132,16 @@ pub struct FrameSettings {
     /// The feature set the scene-reading passes are compiled for: by default what the scene
     /// uses, so a scene pays nothing for features it lacks.
     pub pipeline: PipelineChoice,
-    /// Firefly clamp of the realtime mode's indirect paths: the most luminance one path may
-    /// bring to the indirect light (all of which it gathers after the first bounce), in units
-    /// of the display's white at the frame's exposure (the clamp on scene luminance is this
-    /// over `exposure`), a brighter path scaled down to it (its colour kept); 0 is off. The
-    /// default, [`DEFAULT_FIREFLY_CLAMP`], is ten times white: measured on the bench's scenes
-    /// it changes no image but those with rare very bright paths (a sun glint found by a BRDF
-    /// ray), whose error it divides by up to 500. Lower: fewer fireflies and more energy lost,
-    /// a darker image (bias); higher: closer to unbiased. The reference and naive modes ignore
-    /// it (they stay unbiased).
+    /// Firefly clamp of the realtime mode's sampled light: the most luminance one indirect
+    /// path may bring (all it gathers after the first bounce), and the direct pass's sampled
+    /// estimate (all but the punctual lights it evaluates exactly), in units of the display's
+    /// white at the frame's exposure (the clamp on scene luminance is this over `exposure`);
+    /// a brighter sample is scaled down to it (its colour kept); 0 is off. The default,
+    /// [`DEFAULT_FIREFLY_CLAMP`], is ten times white: on the bench's scenes it leaves the
+    /// images without rare very bright samples as they were and divides the error of those
+    /// with them (a sun glint found by a BRDF ray; a close light picked among hundreds) by up
+    /// to 500. Lower: fewer fireflies and more energy lost, a darker image (bias); higher:
+    /// closer to unbiased. The reference and naive modes ignore it (they stay unbiased).
     pub firefly_clamp: f32,
 }
 

@@ -228,6 +228,7 @@ fn pass_params_match_their_wgsl_structs() {
             ("seed_hi", offset_of!(DirectParams, seed_hi)),
             ("lights", offset_of!(DirectParams, lights)),
             ("light_sampling", offset_of!(DirectParams, light_sampling)),
+            ("firefly_clamp", offset_of!(DirectParams, firefly_clamp)),
             ("pad0", offset_of!(DirectParams, pad)),
         ],
     );

@@ -29,8 +29,12 @@ pub struct DirectParams {
     /// How a light is picked: `LIGHT_SAMPLING_POWER` or `LIGHT_SAMPLING_TREE`
     /// (`gpu_scene::layout`).
     pub light_sampling: u32,
+    /// Most luminance of the sampled part of the estimate (all but the punctual lights' exact
+    /// part), a brighter one scaled down to it; 0: no clamp (`FrameSettings::firefly_clamp`,
+    /// realtime mode only).
+    pub firefly_clamp: f32,
     /// Padding.
-    pub pad: [u32; 3],
+    pub pad: [u32; 2],
 }
 
 /// Selects the direct pass's shader and outputs: the direct light, and the part of it from
