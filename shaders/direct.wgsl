@@ -8,7 +8,9 @@
 // Rendering", SIGGRAPH 1995). Each light sample casts one shadow ray from an origin offset
 // along the geometric normal (Wachter and Binder, "A Fast and Robust Method for Avoiding
 // Self-Intersection", Ray Tracing Gems, 2019). Where the camera sees no surface, the
-// environment along the camera ray. The same estimate as chiaro_reference with direct_only.
+// environment along the camera ray. The same estimate as chiaro_reference with direct_only
+// (in realtime mode, less what the firefly clamp takes off its sampled part: all but the exact
+// punctual part below, scaled down to a luminance of params.firefly_clamp when above it).
 //
 // Apart, in direct_punctual_out: the punctual lights' part of the estimate where every one is
 // evaluated (punctual_lights_all_evaluated: no light picked at random, so no sampling noise),

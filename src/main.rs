@@ -229,7 +229,20 @@ fn parse_size(text: &str) -> Result<(u32, u32), String> {
     }
 }
 
+/// A reader that closes its end early (`chiaro compare A B | head -1`) ends the program
+/// quietly, as it does other command-line tools, rather than in a panic of the next print.
+#[cfg(unix)]
+fn end_quietly_on_a_closed_pipe() {
+    // SAFETY: called first in main, before any other thread runs; SIG_DFL is a valid
+    // disposition for SIGPIPE (Rust's runtime set it to ignored).
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
 fn main() -> Result<()> {
+    #[cfg(unix)]
+    end_quietly_on_a_closed_pipe();
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
     let cli = match std::env::args_os().len() {
         1 => Cli::parse_from(["chiaro", "render"]),

@@ -1,5 +1,5 @@
-//! The `chiaro` binary end to end: `info` and `reference` on built-in scenes, and a clear error
-//! with a non-zero exit on bad input.
+//! The `chiaro` binary end to end: `info` and `reference` on built-in scenes, a clear error
+//! with a non-zero exit on bad input, and no panic when its output's reader has gone.
 
 mod common;
 
@@ -127,4 +127,24 @@ fn compare_prints_each_measure_and_writes_a_heatmap() {
     assert!(!out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("missing.exr"), "{err}");
+}
+
+/// Output into a pipe whose reader has closed (`chiaro info ... | head -0`) ends the program
+/// without a panic (by SIGPIPE on Unix, as other command-line tools end).
+#[test]
+fn a_closed_output_pipe_ends_the_program_without_a_panic() {
+    let (reader, writer) = std::io::pipe().unwrap();
+    drop(reader);
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_chiaro"))
+        .args(["info", "builtin:cornell"])
+        .stdout(writer)
+        .stderr(std::process::Stdio::piped())
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(
+        !out.status.success(),
+        "nothing was written, yet it exited 0"
+    );
 }

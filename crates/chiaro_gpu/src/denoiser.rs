@@ -313,8 +313,8 @@ impl Denoiser {
     }
 
     /// The last frame's lighting before filtering: direct + indirect, less the exact punctual
-    /// part, over the demodulation albedo where a surface shades, the light itself elsewhere (as computed: a NaN or an
-    /// infinity from the input shows here).
+    /// part, over the demodulation albedo where a surface shades, the light itself elsewhere
+    /// (as computed: a NaN or an infinity from the input shows here).
     pub fn read_lighting(
         &self,
         device: &wgpu::Device,

@@ -140,7 +140,7 @@ pub struct FrameSettings {
     /// [`DEFAULT_FIREFLY_CLAMP`], is ten times white: on the bench's scenes it leaves the
     /// images without rare very bright samples as they were and divides the error of those
     /// with them (a sun glint found by a BRDF ray; a close light picked among hundreds) by up
-    /// to 500. Lower: fewer fireflies and more energy lost, a darker image (bias); higher:
+    /// to 600. Lower: fewer fireflies and more energy lost, a darker image (bias); higher:
     /// closer to unbiased. The reference and naive modes ignore it (they stay unbiased).
     pub firefly_clamp: f32,
 }

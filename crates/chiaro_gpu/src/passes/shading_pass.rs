@@ -16,10 +16,10 @@ use crate::targets::{FrameTargets, HDR_FORMAT, Target};
 pub trait ShadingKind {
     /// The pass's name: its shader is `shaders/NAME.wgsl`, its wgpu objects are labelled with it.
     const NAME: &'static str;
-    /// The images the pass writes, bound from binding 5 on in this order.
-    fn outputs(targets: &FrameTargets) -> Vec<&Target>;
     /// How many images [`Self::outputs`] gives.
     const OUTPUTS: u32;
+    /// The images the pass writes, bound from binding 5 on in this order.
+    fn outputs(targets: &FrameTargets) -> Vec<&Target>;
 }
 
 /// A compute pass that shades the G-buffer's pixels (see [`ShadingKind`]), with one pipeline
