@@ -2,9 +2,10 @@
 //! disk), then each GPU configuration from a fresh start on a static camera: the wall time of
 //! every frame and the median time of each pass, and relMSE and mean LDR-FLIP against the
 //! reference after each checkpoint's frame count; then the realtime configuration along a
-//! scripted camera path ([`camera_path`]), measured after each checkpoint against the
-//! converged reference at that frame's pose (`realtime-path`). Results go to `results.json`,
-//! `results.md` and one error-against-time plot per scene (see [`write_outputs`]).
+//! scripted camera path ([`camera_path`]), measured after each checkpoint against the same
+//! converged reference, every checkpoint being at the camera's own pose (`realtime-path`).
+//! Results go to `results.json`, `results.md` and one error-against-time plot per scene (see
+//! [`write_outputs`]).
 
 pub mod camera_path;
 mod plot;
