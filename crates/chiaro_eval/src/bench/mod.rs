@@ -423,14 +423,15 @@ pub fn run_bench(
     };
     for scene in scenes {
         progress(BenchProgress::Reference(scene.label()));
+        let mut world = scene.load()?;
         let reference = converged_reference(
             scene,
+            &mut world,
             settings.width,
             settings.height,
             settings.reference_spp,
             &settings.cache_dir,
         )?;
-        let mut world = scene.load()?;
         let mut runs = Vec::new();
         let statics = vec![&reference.image; settings.checkpoints.len()];
         for config in configs {

@@ -5,7 +5,9 @@ use std::fs;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use bevy_ecs::world::World;
 use chiaro_reference::{PathSettings, RenderSettings, read_exr, render_world, write_exr};
+use chiaro_scene::SceneInfo;
 use serde::{Deserialize, Serialize};
 
 use super::{BenchError, BenchScene};
@@ -41,18 +43,25 @@ fn fnv1a(text: &str) -> u64 {
     })
 }
 
-/// What decides the reference's pixels: the scene, its environment file (by path, size and
-/// modification time), the image size, the sample count, the seed, the path settings, the
-/// chiaro version.
-fn cache_key(scene: &BenchScene, width: u32, height: u32, spp: u32) -> String {
-    let env = scene.env.as_ref().map(|path| {
-        let meta = fs::metadata(path).ok();
-        let size = meta.as_ref().map(|m| m.len());
-        let modified = meta.and_then(|m| m.modified().ok());
-        format!("{} {size:?} {modified:?}", path.display())
-    });
+/// A file as the cache knows it: its path, size and modification time.
+fn file_stamp(path: &Path) -> String {
+    let meta = fs::metadata(path).ok();
+    let size = meta.as_ref().map(|m| m.len());
+    let modified = meta.and_then(|m| m.modified().ok());
+    format!("{} {size:?} {modified:?}", path.display())
+}
+
+/// What decides the reference's pixels: the scene (its name; its file's size and modification
+/// time when it is a file; and `held`, the summary of what the loaded scene holds: meshes,
+/// triangles, materials, lights, camera, bounds, environment, so that a scene that changed
+/// under the same name, a built-in one included, is rendered again), its environment file (by
+/// path, size and modification time), the image size, the sample count, the seed, the path
+/// settings, the chiaro version.
+fn cache_key(scene: &BenchScene, held: &SceneInfo, width: u32, height: u32, spp: u32) -> String {
+    let file = (!scene.scene.starts_with("builtin:")).then(|| file_stamp(Path::new(&scene.scene)));
+    let env = scene.env.as_deref().map(file_stamp);
     format!(
-        "{} {env:?} {width}x{height} {spp} {REFERENCE_SEED} {:?} {}",
+        "{} {file:?} {held:?} {env:?} {width}x{height} {spp} {REFERENCE_SEED} {:?} {}",
         scene.scene,
         PathSettings::default(),
         env!("CARGO_PKG_VERSION")
@@ -64,16 +73,18 @@ fn cache_path(cache_dir: &Path, key: &str) -> PathBuf {
     cache_dir.join(format!("reference-{:016x}.exr", fnv1a(key)))
 }
 
-/// The converged reference of `scene` at `width` x `height` with `spp` samples per pixel:
-/// read from `cache_dir` when it is there, else rendered (on every core) and stored.
+/// The converged reference of `scene` (loaded in `world`) at `width` x `height` with `spp`
+/// samples per pixel: read from `cache_dir` when it is there, else rendered (on every core)
+/// and stored.
 pub fn converged_reference(
     scene: &BenchScene,
+    world: &mut World,
     width: u32,
     height: u32,
     spp: u32,
     cache_dir: &Path,
 ) -> Result<Reference, BenchError> {
-    let key = cache_key(scene, width, height, spp);
+    let key = cache_key(scene, &SceneInfo::gather(world), width, height, spp);
     let path = cache_path(cache_dir, &key);
     let sidecar_path = path.with_extension("json");
     if let (Ok(text), true) = (fs::read_to_string(&sidecar_path), path.exists())
@@ -88,7 +99,6 @@ pub fn converged_reference(
             cached: true,
         });
     }
-    let mut world = scene.load()?;
     let settings = RenderSettings {
         width,
         height,
@@ -97,7 +107,7 @@ pub fn converged_reference(
         ..RenderSettings::default()
     };
     let start = Instant::now();
-    let output = render_world(&mut world, &settings, false)?;
+    let output = render_world(world, &settings, false)?;
     let seconds = start.elapsed().as_secs_f64();
     let noise = output.halves_rel_mse() / 4.0;
     fs::create_dir_all(cache_dir).map_err(|e| BenchError::io(cache_dir, &e))?;
@@ -120,19 +130,24 @@ mod tests {
     #[test]
     fn the_key_changes_with_everything_that_decides_the_pixels() {
         let scene = BenchScene::builtin("builtin:cornell");
-        let base = cache_key(&scene, 64, 64, 16);
-        assert_ne!(base, cache_key(&scene, 64, 32, 16));
-        assert_ne!(base, cache_key(&scene, 64, 64, 32));
+        let mut world = scene.load().unwrap();
+        let held = SceneInfo::gather(&mut world);
+        let base = cache_key(&scene, &held, 64, 64, 16);
+        assert_ne!(base, cache_key(&scene, &held, 64, 32, 16));
+        assert_ne!(base, cache_key(&scene, &held, 64, 64, 32));
         assert_ne!(
             base,
-            cache_key(&BenchScene::builtin("builtin:furnace"), 64, 64, 16)
+            cache_key(&BenchScene::builtin("builtin:furnace"), &held, 64, 64, 16)
         );
         let lit = BenchScene {
             env: Some(PathBuf::from("sky.hdr")),
             ..scene.clone()
         };
-        assert_ne!(base, cache_key(&lit, 64, 64, 16));
-        assert_eq!(base, cache_key(&scene, 64, 64, 16));
+        assert_ne!(base, cache_key(&lit, &held, 64, 64, 16));
+        assert_eq!(base, cache_key(&scene, &held, 64, 64, 16));
+        // The same name holding another scene (as a built-in scene changed by a new build).
+        let other = SceneInfo::gather(&mut BenchScene::builtin("builtin:furnace").load().unwrap());
+        assert_ne!(base, cache_key(&scene, &other, 64, 64, 16));
     }
 
     #[test]
