@@ -9,8 +9,9 @@
 // along the geometric normal (Wachter and Binder, "A Fast and Robust Method for Avoiding
 // Self-Intersection", Ray Tracing Gems, 2019). Where the camera sees no surface, the
 // environment along the camera ray. The same estimate as chiaro_reference with direct_only
-// (in realtime mode, less what the firefly clamp takes off its sampled part: all but the exact
-// punctual part below, scaled down to a luminance of params.firefly_clamp when above it).
+// (in realtime mode, less what the firefly clamp takes off: the BRDF sample, and the punctual
+// light picked when not all are evaluated, each scaled down to a luminance of
+// params.firefly_clamp when above it).
 //
 // Apart, in direct_punctual_out: the punctual lights' part of the estimate where every one is
 // evaluated (punctual_lights_all_evaluated: no light picked at random, so no sampling noise),
@@ -37,8 +38,7 @@ struct DirectParams {
     lights: u32,
     // LIGHT_SAMPLING_POWER or LIGHT_SAMPLING_TREE.
     light_sampling: u32,
-    // Most luminance of the sampled part of the estimate (all but the exact punctual part);
-    // 0: off.
+    // Most luminance of the BRDF sample and of the punctual light picked at random; 0: off.
     firefly_clamp: f32,
     pad0: u32,
     pad1: u32,
@@ -91,11 +91,15 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         punctual = punctual_light(s, &rng);
         let area = area_light(s, &rng);
         let brdf = brdf_light(s, &rng);
-        if punctual_lights_all_evaluated() {
-            radiance = punctual + clamp_luminance(area + brdf, params.firefly_clamp);
-        } else {
-            radiance = clamp_luminance(punctual + area + brdf, params.firefly_clamp);
+        // The firefly clamp takes the samples whose value can be rare and huge: the BRDF
+        // sample, and the punctual light picked at random; not the exact punctual part, nor
+        // the area-light sample (light sampling: its value is about the light's true share).
+        let clamp = params.firefly_clamp;
+        var punctual_part = punctual;
+        if !punctual_lights_all_evaluated() {
+            punctual_part = clamp_luminance(punctual, clamp);
         }
+        radiance = punctual_part + area + clamp_luminance(brdf, clamp);
     }
     textureStore(direct_out, pixel, vec4<f32>(radiance, 1.0));
     let exact = select(vec3<f32>(0.0), punctual, punctual_lights_all_evaluated());

@@ -197,9 +197,9 @@ struct FrameArgs {
     /// through light trees) or power (by power alone).
     #[arg(long, default_value = "tree")]
     light_sampling: LightSampling,
-    /// Most luminance one realtime light sample (an indirect path, the direct light's sampled
-    /// part) may bring, in units of display white at the exposure, a brighter one scaled down
-    /// to it (fewer fireflies, some energy lost); 0 is off.
+    /// Most luminance one realtime light sample (an indirect path, the direct light's BRDF
+    /// sample or randomly picked light) may bring, in units of display white at the exposure, a
+    /// brighter one scaled down to it (fewer fireflies, some energy lost); 0 is off.
     #[arg(long, default_value_t = chiaro::gpu::settings::DEFAULT_FIREFLY_CLAMP)]
     firefly_clamp: f32,
 }

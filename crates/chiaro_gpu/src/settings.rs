@@ -133,8 +133,10 @@ pub struct FrameSettings {
     /// uses, so a scene pays nothing for features it lacks.
     pub pipeline: PipelineChoice,
     /// Firefly clamp of the realtime mode's sampled light: the most luminance one indirect
-    /// path may bring (all it gathers after the first bounce), and the direct pass's sampled
-    /// estimate (all but the punctual lights it evaluates exactly), in units of the display's
+    /// path may bring (all it gathers after the first bounce), and each direct-pass sample
+    /// whose value can be rare and huge (the BRDF sample; the punctual light picked when there
+    /// are too many to evaluate them all; not the light-sampled area or environment sample,
+    /// whose value is about the light's true share), in units of the display's
     /// white at the frame's exposure (the clamp on scene luminance is this over `exposure`);
     /// a brighter sample is scaled down to it (its colour kept); 0 is off. The default,
     /// [`DEFAULT_FIREFLY_CLAMP`], is ten times white: on the bench's scenes it leaves the

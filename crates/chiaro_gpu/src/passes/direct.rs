@@ -29,9 +29,9 @@ pub struct DirectParams {
     /// How a light is picked: `LIGHT_SAMPLING_POWER` or `LIGHT_SAMPLING_TREE`
     /// (`gpu_scene::layout`).
     pub light_sampling: u32,
-    /// Most luminance of the sampled part of the estimate (all but the punctual lights' exact
-    /// part), a brighter one scaled down to it; 0: no clamp (`FrameSettings::firefly_clamp`,
-    /// realtime mode only).
+    /// Most luminance of the BRDF sample and of the punctual light picked at random, a
+    /// brighter one scaled down to it; 0: no clamp (`FrameSettings::firefly_clamp`, realtime
+    /// mode only).
     pub firefly_clamp: f32,
     /// Padding.
     pub pad: [u32; 2],
