@@ -12,11 +12,13 @@
 //! realtime below 1.2e-2, and below 3 x the reference mode's error.
 
 mod common;
+mod hard_cases_common;
 
 use bevy_ecs::world::World;
-use chiaro_gpu::{FrameSettings, RenderMode, RenderSettings, Renderer};
-use chiaro_reference::{PathSettings, render_world};
+use chiaro_gpu::{RenderMode, Renderer};
+use chiaro_reference::PathSettings;
 use chiaro_scene::load_scene;
+use hard_cases_common::{cpu_reference, mode, settings};
 
 #[test]
 fn the_sun_shadows_of_small_spheres_stay_sharp_in_realtime() {
@@ -24,32 +26,12 @@ fn the_sun_shadows_of_small_spheres_stay_sharp_in_realtime() {
     let size = 48;
     let mut world = World::new();
     load_scene(&mut world, "builtin:instances?n=64").unwrap();
-    let cpu = render_world(
-        &mut world,
-        &chiaro_reference::RenderSettings {
-            width: size,
-            height: size,
-            spp: 512,
-            seed: 7,
-            threads: None,
-            path: PathSettings::default(),
-        },
-        false,
-    )
-    .unwrap();
+    let cpu = cpu_reference(&mut world, size, 512, PathSettings::default());
     let mut renderer = Renderer::new(gpu);
-    let mut error = |mode| {
-        let settings = RenderSettings {
-            width: size,
-            height: size,
-            frames: 32,
-            seed: 3,
-            frame: FrameSettings {
-                mode,
-                ..FrameSettings::default()
-            },
-        };
-        let out = renderer.render(&mut world, &settings).unwrap();
+    let mut error = |m| {
+        let out = renderer
+            .render(&mut world, &settings(size, 32, 3, mode(m)))
+            .unwrap();
         common::rel_mse(&out.hdr, &cpu.image)
     };
     let realtime = error(RenderMode::Realtime);
