@@ -210,7 +210,7 @@ fn bvh_trace_instance(
     best: ptr<function, Hit>,
     any_hit: bool,
 ) -> bool {
-    let record = bvh_instances[instance];
+    let record = bvh_load_instance(instance);
     let o = bvh_transform_point(record.world_to_object, ray.origin);
     let d = bvh_transform_vector(record.world_to_object, ray.direction);
     if !vec3_is_finite(o) || !vec3_is_finite(d) || bvh_max_element(abs(d)) == 0.0 {
@@ -235,7 +235,7 @@ fn bvh_trace_instance(
         while triangle_group.y != 0u {
             let offset = firstLeadingBit(triangle_group.y);
             triangle_group.y &= ~(1u << offset);
-            let tri = bvh_triangles[triangle_group.x + offset];
+            let tri = bvh_load_triangle(triangle_group.x + offset);
             bvh_steps += 1u;
             let h = watertight_intersect(watertight, tri.v0, tri.v1, tri.v2, t_min, *t_max);
             if h.found && hit_accepted(instance, tri.triangle, vec2<f32>(h.b1, h.b2)) {
@@ -260,7 +260,7 @@ fn bvh_trace_instance(
             // The child slot from its priority bit, then its rank among the inner children.
             let slot = (slot_bit - 24u) ^ (node_ray.oct_inv4 & 0xffu);
             let rank = countOneBits(hits & ~(0xffffffffu << slot));
-            let node = bvh_blas_nodes[group.x + rank];
+            let node = bvh_load_blas_node(group.x + rank);
             bvh_steps += 1u;
             let mask = bvh_intersect_node(node, node_ray, t_min, *t_max);
             group = vec2<u32>(node.child_base_idx, (mask & 0xff000000u) | ((node.e_imask >> 24u) & 0xffu));
@@ -296,14 +296,14 @@ fn bvh_trace(ray: Ray, t_max_in: f32, any_hit: bool) -> Hit {
     box_ray.zero_component = bvh_has_zero(ray.direction);
     let unit_pad = TLAS_PAD_ULPS * F32_EPSILON * bvh_max_element(abs(ray.origin));
     let t_min = ray.t_min;
-    let root = bvh_tlas_nodes[0];
+    let root = bvh_load_tlas_node(0);
     if !f32_is_finite(bvh_box_entry(box_ray, root.min, root.max, root.kappa * unit_pad, t_min, t_max)) {
         return best;
     }
     var top = 0u;
     var index = 0u;
     loop {
-        let node = bvh_tlas_nodes[index];
+        let node = bvh_load_tlas_node(index);
         bvh_steps += 1u;
         if (node.child & TLAS_LEAF_BIT) != 0u {
             let instance = node.child & ~TLAS_LEAF_BIT;
@@ -312,8 +312,8 @@ fn bvh_trace(ray: Ray, t_max_in: f32, any_hit: bool) -> Hit {
             }
         } else {
             let first = node.child;
-            let left = bvh_tlas_nodes[first];
-            let right = bvh_tlas_nodes[first + 1u];
+            let left = bvh_load_tlas_node(first);
+            let right = bvh_load_tlas_node(first + 1u);
             let t_left = bvh_box_entry(box_ray, left.min, left.max, left.kappa * unit_pad, t_min, t_max);
             let t_right = bvh_box_entry(box_ray, right.min, right.max, right.kappa * unit_pad, t_min, t_max);
             let hit_left = f32_is_finite(t_left);

@@ -1,12 +1,17 @@
-// The BVH part of the scene bind group, group(0) bindings 0..3 (4..7 are reserved for it):
-// chiaro_bvh::GpuBvhBuffers field for field, one storage buffer each.
+// The BVH part of the scene bind group, group(0) bindings 0..4 (5..7 are reserved for it):
+// chiaro_bvh::GpuBvhBuffers field for field. The traversal's records are texel arrays
+// (chiaro_gpu::gpu_scene::texel_mirror: rgba32uint textures, record i is texels
+// i * (record size / 16) onwards in row-major order, 2^TEXEL_ROW_BITS texels to a row), read
+// with bvh_load_*: a texel fetch gathers 16 bytes per lane, where lavapipe loads a storage
+// buffer at per-lane addresses one lane and one word at a time. The instances are also a
+// storage buffer (binding 3), for the passes that shade.
 //
 // Compressed wide BVH nodes after Ylitie, Karras and Laine, "Efficient Incoherent Ray Traversal
 // on GPUs Through Compressed Wide BVHs", High Performance Graphics 2017, in obvhs's record
 // (CwBvhNode, 80 bytes); the TLAS node, triangle and instance records of chiaro_bvh::layout and
 // chiaro_bvh::gpu.
 //
-// No buffer may be empty (a binding needs at least one element). A scene without instances is
+// No array may be empty (a binding needs at least one element). A scene without instances is
 // uploaded as one TLAS node that is a leaf naming an instance past the end of `bvh_instances`
 // (for example TLAS_LEAF_BIT | 0x7fffffff): traversal skips such a leaf and finds nothing.
 
@@ -18,9 +23,9 @@ struct CwBvhNode {
     // Bytes: exponents e[0], e[1], e[2] of the grid spacing per axis, then imask (bit k set
     // when child slot k is an inner node).
     e_imask: u32,
-    // Index of the first inner child in bvh_blas_nodes (global).
+    // Index of the first inner child among the BLAS nodes (global).
     child_base_idx: u32,
-    // Index of the first leaf triangle in bvh_triangles (global).
+    // Index of the first leaf triangle among the BLAS triangles (global).
     primitive_base_idx: u32,
     // Per child slot: 0 empty; inner: 0b001 in the top bits, slot + 24 in the low five; leaf:
     // unary triangle count in the top three bits, triangle offset in the low five.
@@ -58,7 +63,7 @@ struct TlasNode {
 struct GpuInstance {
     world_to_object: array<vec4<f32>, 3>,
     object_to_world: array<vec4<f32>, 3>,
-    // Root of the instance's BLAS in bvh_blas_nodes.
+    // Root of the instance's BLAS among the BLAS nodes.
     blas_root: u32,
     mesh: u32,
     material: u32,
@@ -66,7 +71,59 @@ struct GpuInstance {
     mesh_magnitude: f32,
 }
 
-@group(0) @binding(0) var<storage, read> bvh_blas_nodes: array<CwBvhNode>;
-@group(0) @binding(1) var<storage, read> bvh_triangles: array<BvhTriangle>;
-@group(0) @binding(2) var<storage, read> bvh_tlas_nodes: array<TlasNode>;
+@group(0) @binding(0) var bvh_blas_node_texels: texture_2d<u32>;
+@group(0) @binding(1) var bvh_triangle_texels: texture_2d<u32>;
+@group(0) @binding(2) var bvh_tlas_node_texels: texture_2d<u32>;
 @group(0) @binding(3) var<storage, read> bvh_instances: array<GpuInstance>;
+@group(0) @binding(4) var bvh_instance_texels: texture_2d<u32>;
+
+// Texel i of a texel array.
+fn texel_array_load(texels: texture_2d<u32>, i: u32) -> vec4<u32> {
+    let row_mask = (1u << TEXEL_ROW_BITS) - 1u;
+    return textureLoad(texels, vec2<u32>(i & row_mask, i >> TEXEL_ROW_BITS), 0);
+}
+
+// BLAS node i (5 texels).
+fn bvh_load_blas_node(i: u32) -> CwBvhNode {
+    let a = texel_array_load(bvh_blas_node_texels, 5u * i);
+    let b = texel_array_load(bvh_blas_node_texels, 5u * i + 1u);
+    let c = texel_array_load(bvh_blas_node_texels, 5u * i + 2u);
+    let d = texel_array_load(bvh_blas_node_texels, 5u * i + 3u);
+    let e = texel_array_load(bvh_blas_node_texels, 5u * i + 4u);
+    let p = bitcast<vec3<f32>>(a.xyz);
+    return CwBvhNode(array<f32, 3>(p.x, p.y, p.z), a.w, b.x, b.y, b.zw, c.xy, c.zw, d.xy, d.zw,
+        e.xy, e.zw);
+}
+
+// BLAS triangle i (3 texels).
+fn bvh_load_triangle(i: u32) -> BvhTriangle {
+    let a = texel_array_load(bvh_triangle_texels, 3u * i);
+    let b = texel_array_load(bvh_triangle_texels, 3u * i + 1u);
+    let c = texel_array_load(bvh_triangle_texels, 3u * i + 2u);
+    return BvhTriangle(bitcast<vec3<f32>>(a.xyz), a.w, bitcast<vec3<f32>>(b.xyz), b.w,
+        bitcast<vec3<f32>>(c.xyz), c.w);
+}
+
+// TLAS node i (2 texels).
+fn bvh_load_tlas_node(i: u32) -> TlasNode {
+    let a = texel_array_load(bvh_tlas_node_texels, 2u * i);
+    let b = texel_array_load(bvh_tlas_node_texels, 2u * i + 1u);
+    return TlasNode(bitcast<vec3<f32>>(a.xyz), a.w, bitcast<vec3<f32>>(b.xyz), bitcast<f32>(b.w));
+}
+
+// What the traversal reads of instance i: the world-to-object rows (its texels 0..2), the BLAS
+// root and the mesh magnitude (texel 6).
+struct BvhInstanceRecord {
+    world_to_object: array<vec4<f32>, 3>,
+    blas_root: u32,
+    mesh_magnitude: f32,
+}
+
+fn bvh_load_instance(i: u32) -> BvhInstanceRecord {
+    let first = 7u * i;
+    let rows = array<vec4<f32>, 3>(bitcast<vec4<f32>>(texel_array_load(bvh_instance_texels, first)),
+        bitcast<vec4<f32>>(texel_array_load(bvh_instance_texels, first + 1u)),
+        bitcast<vec4<f32>>(texel_array_load(bvh_instance_texels, first + 2u)));
+    let tail = texel_array_load(bvh_instance_texels, first + 6u);
+    return BvhInstanceRecord(rows, tail.x, bitcast<f32>(tail.w));
+}

@@ -24,8 +24,9 @@ use std::time::Instant;
 use bevy_ecs::prelude::*;
 use bytemuck::{Pod, Zeroable};
 use chiaro_bvh::{GpuBvhBuffers, Ray, SceneBvh, offset_ray_origin};
-use chiaro_gpu::GpuContext;
+use chiaro_gpu::gpu_scene::MirrorTexels;
 use chiaro_gpu::shaders;
+use chiaro_gpu::{GpuContext, UploadStats};
 use chiaro_scene::{Camera, GlobalTransform, Light, LightKind, Projection};
 use chiaro_shading::frame::Frame;
 use chiaro_shading::rng::Pcg32;
@@ -210,7 +211,28 @@ fn entries<'a>(buffers: &[&'a wgpu::Buffer]) -> Vec<wgpu::BindGroupEntry<'a>> {
 struct GpuTracer {
     closest: wgpu::ComputePipeline,
     occluded: wgpu::ComputePipeline,
-    bvh: Vec<wgpu::Buffer>,
+    /// The BVH's texel arrays at bindings 0, 1, 2 and 4.
+    texels: Vec<(u32, wgpu::TextureView)>,
+    /// The instances at binding 3.
+    instances: wgpu::Buffer,
+}
+
+/// `records` as a texel array, uploaded as the scene uploads it.
+fn texel_array<T: Pod + PartialEq>(
+    gpu: &GpuContext,
+    label: &'static str,
+    records: &[T],
+) -> Result<wgpu::TextureView, String> {
+    let mut array = MirrorTexels::<T>::new(&gpu.device, label);
+    array
+        .update(
+            &gpu.device,
+            &gpu.queue,
+            records,
+            &mut UploadStats::default(),
+        )
+        .map_err(|e| e.to_string())?;
+    Ok(array.view().clone())
 }
 
 fn storage(gpu: &GpuContext, label: &str, bytes: &[u8], usage: wgpu::BufferUsages) -> wgpu::Buffer {
@@ -252,36 +274,21 @@ impl GpuTracer {
                     cache: None,
                 })
         };
-        let none = wgpu::BufferUsages::empty();
         Ok(Self {
             closest: pipeline("closest"),
             occluded: pipeline("occluded"),
-            bvh: vec![
-                storage(
-                    gpu,
-                    "bvh blas nodes",
-                    bytemuck::cast_slice(&buffers.blas_nodes),
-                    none,
-                ),
-                storage(
-                    gpu,
-                    "bvh triangles",
-                    bytemuck::cast_slice(&buffers.triangles),
-                    none,
-                ),
-                storage(
-                    gpu,
-                    "bvh tlas nodes",
-                    bytemuck::cast_slice(&buffers.tlas_nodes),
-                    none,
-                ),
-                storage(
-                    gpu,
-                    "bvh instances",
-                    bytemuck::cast_slice(&buffers.instances),
-                    none,
-                ),
+            texels: vec![
+                (0, texel_array(gpu, "bvh blas nodes", &buffers.blas_nodes)?),
+                (1, texel_array(gpu, "bvh triangles", &buffers.triangles)?),
+                (2, texel_array(gpu, "bvh tlas nodes", &buffers.tlas_nodes)?),
+                (4, texel_array(gpu, "bvh instances", &buffers.instances)?),
             ],
+            instances: storage(
+                gpu,
+                "bvh instances",
+                bytemuck::cast_slice(&buffers.instances),
+                wgpu::BufferUsages::empty(),
+            ),
         })
     }
 
@@ -313,10 +320,22 @@ impl GpuTracer {
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
+        let mut bvh_entries: Vec<_> = self
+            .texels
+            .iter()
+            .map(|(binding, view)| wgpu::BindGroupEntry {
+                binding: *binding,
+                resource: wgpu::BindingResource::TextureView(view),
+            })
+            .collect();
+        bvh_entries.push(wgpu::BindGroupEntry {
+            binding: 3,
+            resource: self.instances.as_entire_binding(),
+        });
         let scene = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("bench bvh"),
             layout: &pipeline.get_bind_group_layout(0),
-            entries: &entries(&self.bvh.iter().collect::<Vec<_>>()),
+            entries: &bvh_entries,
         });
         let io = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("bench rays"),

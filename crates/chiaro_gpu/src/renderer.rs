@@ -37,6 +37,9 @@ pub enum RenderError {
     /// Nothing was rendered yet.
     #[error("nothing was rendered yet")]
     NotRendered,
+    /// The scene's BVH does not fit the device's largest texture.
+    #[error("the scene is too large for this device: {0}")]
+    SceneTooLarge(#[from] crate::gpu_scene::TexelOverflow),
     /// The image size is zero or beyond the device's limit.
     #[error("image size {width}x{height} is not within 1..={max} per side on this device")]
     Size {
@@ -291,6 +294,9 @@ impl Renderer {
         let jitter = jitter(settings.seed, self.frame_index);
         let gpu_camera = GpuCamera::new(&camera, &global, width, height, jitter, self.previous);
         let scene = world.resource::<GpuScene>();
+        if let Some(overflow) = scene.overflow() {
+            return Err(overflow.clone().into());
+        }
         let changed = self.previous != Some(gpu_camera.unjittered())
             || scene.content_changed
             || self.last_settings != Some(settings.frame);

@@ -138,13 +138,22 @@ fn check_edit_counters(edit: Edit, first: &UploadStats, second: &UploadStats, bv
         Edit::Move => {
             assert_eq!(
                 first.written(),
-                ["scene instances", "scene tlas nodes"],
+                [
+                    "scene instance texels",
+                    "scene instances",
+                    "scene tlas nodes"
+                ],
                 "{first:?}"
             );
-            assert_eq!(
-                first.bytes_of("scene instances"),
-                size_of::<GpuInstance>() as u64
-            );
+            // The moved instance's record, in the shading passes' buffer and in the
+            // traversal's texel array.
+            for copy in ["scene instances", "scene instance texels"] {
+                assert_eq!(
+                    first.bytes_of(copy),
+                    size_of::<GpuInstance>() as u64,
+                    "{copy}"
+                );
+            }
             assert_eq!(second.written(), ["scene instance extras"], "{second:?}");
             assert_eq!(second.bytes, 64, "one previous transform: {second:?}");
         }

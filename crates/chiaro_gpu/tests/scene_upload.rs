@@ -54,13 +54,21 @@ fn uploads_follow_changes_only() {
     let moved = last(&world);
     assert_eq!(
         moved.written(),
-        ["scene instances", "scene tlas nodes"],
+        [
+            "scene instance texels",
+            "scene instances",
+            "scene tlas nodes"
+        ],
         "{moved:?}"
     );
-    assert_eq!(
-        moved.bytes_of("scene instances"),
-        size_of::<chiaro_bvh::GpuInstance>() as u64
-    );
+    // The instance's record, for the shading passes and for the traversal.
+    for copy in ["scene instances", "scene instance texels"] {
+        assert_eq!(
+            moved.bytes_of(copy),
+            size_of::<chiaro_bvh::GpuInstance>() as u64,
+            "{copy}"
+        );
+    }
     let tlas = world.resource::<GpuScene>().instances().len() * 2 - 1;
     assert!(moved.bytes_of("scene tlas nodes") <= (tlas * 32) as u64);
 

@@ -337,24 +337,14 @@ fn check_scene(gpu: &chiaro_gpu::GpuContext, kernel: &Kernel, name: &str) {
     let mut rng = Pcg32::new(0x7a5e, name.len() as u64);
     let rays: Vec<TestRay> = (0..RAYS).map(|i| scene.random_ray(&mut rng, i)).collect();
     let t = Instant::now();
-    let bytes = kernel.run(
+    let texel = |binding, data| Input {
+        group: 0,
+        binding,
+        data,
+    };
+    let bytes = kernel.run_with_texels(
         gpu,
         &[
-            Input {
-                group: 0,
-                binding: 0,
-                data: bytemuck::cast_slice(&buffers.blas_nodes),
-            },
-            Input {
-                group: 0,
-                binding: 1,
-                data: bytemuck::cast_slice(&buffers.triangles),
-            },
-            Input {
-                group: 0,
-                binding: 2,
-                data: bytemuck::cast_slice(&buffers.tlas_nodes),
-            },
             Input {
                 group: 0,
                 binding: 3,
@@ -365,6 +355,12 @@ fn check_scene(gpu: &chiaro_gpu::GpuContext, kernel: &Kernel, name: &str) {
                 binding: 0,
                 data: bytemuck::cast_slice(&rays),
             },
+        ],
+        &[
+            texel(0, bytemuck::cast_slice(&buffers.blas_nodes)),
+            texel(1, bytemuck::cast_slice(&buffers.triangles)),
+            texel(2, bytemuck::cast_slice(&buffers.tlas_nodes)),
+            texel(4, bytemuck::cast_slice(&buffers.instances)),
         ],
         &Output {
             group: 1,

@@ -69,6 +69,7 @@ pub fn constants() -> Vec<SharedConstant> {
         U32("ALL_PUNCTUAL_LIGHTS_MAX", ALL_PUNCTUAL_LIGHTS_MAX),
         U32("LIGHT_SAMPLING_POWER", LIGHT_SAMPLING_POWER),
         U32("LIGHT_SAMPLING_TREE", LIGHT_SAMPLING_TREE),
+        U32("TEXEL_ROW_BITS", super::texel_mirror::TEXEL_ROW_BITS),
         F32(
             "LIGHT_TREE_UNIFORM_SHARE",
             chiaro_shading::light_tree::UNIFORM_SHARE,

@@ -2,6 +2,7 @@
 //! element ranges that differ, and counts the bytes it wrote.
 
 use std::collections::BTreeMap;
+use std::ops::Range;
 
 use bytemuck::Pod;
 
@@ -33,7 +34,7 @@ impl UploadStats {
             .collect()
     }
 
-    fn record(&mut self, label: &'static str, bytes: u64) {
+    pub(super) fn record(&mut self, label: &'static str, bytes: u64) {
         self.bytes += bytes;
         self.writes += 1;
         *self.per_buffer.entry(label).or_default() += bytes;
@@ -110,28 +111,54 @@ impl<T: Pod + PartialEq> MirrorBuffer<T> {
             self.cpu = data.to_vec();
             return true;
         }
-        let mut i = 0;
-        while i < data.len() {
-            if self.cpu.get(i) == Some(&data[i]) {
-                i += 1;
-                continue;
-            }
-            let start = i;
-            let mut end = i + 1;
-            let mut j = end;
-            while j < data.len() && j < end + MERGE_GAP {
-                if self.cpu.get(j) != Some(&data[j]) {
-                    end = j + 1;
-                }
-                j += 1;
-            }
-            let bytes: &[u8] = bytemuck::cast_slice(&data[start..end]);
-            queue.write_buffer(&self.buffer, (start * element) as u64, bytes);
+        for range in changed_ranges(&self.cpu, data) {
+            let bytes: &[u8] = bytemuck::cast_slice(&data[range.clone()]);
+            queue.write_buffer(&self.buffer, (range.start * element) as u64, bytes);
             stats.record(self.label, bytes.len() as u64);
-            i = end;
         }
         self.cpu.clear();
         self.cpu.extend_from_slice(data);
         false
+    }
+}
+
+/// The element ranges where `new` differs from `old` (elements past `old`'s end differ), two
+/// ranges closer than [`MERGE_GAP`] elements merged into one.
+pub(super) fn changed_ranges<T: PartialEq>(old: &[T], new: &[T]) -> Vec<Range<usize>> {
+    let mut ranges = Vec::new();
+    let mut i = 0;
+    while i < new.len() {
+        if old.get(i) == Some(&new[i]) {
+            i += 1;
+            continue;
+        }
+        let start = i;
+        let mut end = i + 1;
+        let mut j = end;
+        while j < new.len() && j < end + MERGE_GAP {
+            if old.get(j) != Some(&new[j]) {
+                end = j + 1;
+            }
+            j += 1;
+        }
+        ranges.push(start..end);
+        i = end;
+    }
+    ranges
+}
+
+#[cfg(test)]
+mod tests {
+    use super::changed_ranges;
+
+    #[test]
+    fn changed_ranges_merge_near_differences_and_cover_growth() {
+        let old = [0u32; 20];
+        let mut new = [0u32; 24];
+        new[1] = 1;
+        new[3] = 1;
+        new[12] = 1;
+        assert_eq!(changed_ranges(&old, &new), vec![1..4, 12..13, 20..24]);
+        assert!(changed_ranges(&old, &old).is_empty());
     }
 }

@@ -1,16 +1,18 @@
-//! The scene on the GPU: one storage buffer per kind of data, bound as group(0) of every pass,
-//! kept in step with the ECS world by [`upload_gpu_scene`], which runs after the BVH systems
-//! and writes only what changed.
+//! The scene on the GPU: one storage buffer per kind of data, or a texel array
+//! ([`MirrorTexels`]) for what the ray traversal reads (the BVH), bound as group(0) of every
+//! pass, kept in step with the ECS world by [`upload_gpu_scene`], which runs after the BVH
+//! systems and writes only what changed.
 //!
-//! Bindings of group(0) (`shaders/lib/bvh_bindings.wgsl` declares 0..3,
+//! Bindings of group(0) (`shaders/lib/bvh_bindings.wgsl` declares 0..4,
 //! `shaders/lib/scene_bindings.wgsl` the rest):
 //!
-//! | binding | buffer | record |
+//! | binding | buffer or texture | record |
 //! |---|---|---|
-//! | 0 | BLAS nodes | obvhs `CwBvhNode` |
-//! | 1 | BLAS triangles | `chiaro_bvh::BvhTriangle` |
-//! | 2 | TLAS nodes | `chiaro_bvh::TlasNode` |
+//! | 0 | BLAS nodes (texels) | obvhs `CwBvhNode` |
+//! | 1 | BLAS triangles (texels) | `chiaro_bvh::BvhTriangle` |
+//! | 2 | TLAS nodes (texels) | `chiaro_bvh::TlasNode` |
 //! | 3 | instances | `chiaro_bvh::GpuInstance` |
+//! | 4 | instances (texels, for the traversal) | `chiaro_bvh::GpuInstance` |
 //! | 8 | vertices | [`GpuVertex`] |
 //! | 9 | indices | `u32`, global vertex indices |
 //! | 10 | meshes | [`GpuMesh`] |
@@ -41,6 +43,7 @@ mod gather;
 pub mod layout;
 pub mod light_trees;
 mod mirror;
+pub mod texel_mirror;
 
 use bevy_ecs::prelude::*;
 use chiaro_bvh::{BvhTriangle, CwBvhNode, GpuBvhBuffers, GpuInstance, SceneBvh, TlasNode};
@@ -52,6 +55,7 @@ pub use layout::{
 };
 use light_trees::FlatTree;
 pub use mirror::{MirrorBuffer, UploadStats};
+pub use texel_mirror::{MirrorTexels, TexelOverflow};
 
 /// The scene's GPU buffers (a resource of the world).
 #[derive(Resource)]
@@ -62,10 +66,11 @@ pub struct GpuScene {
     bind_group: Option<wgpu::BindGroup>,
     /// Bumped whenever the bind group is remade.
     pub generation: u64,
-    blas_nodes: MirrorBuffer<CwBvhNode>,
-    triangles: MirrorBuffer<BvhTriangle>,
-    tlas_nodes: MirrorBuffer<TlasNode>,
+    blas_nodes: MirrorTexels<CwBvhNode>,
+    triangles: MirrorTexels<BvhTriangle>,
+    tlas_nodes: MirrorTexels<TlasNode>,
     instances: MirrorBuffer<GpuInstance>,
+    instance_texels: MirrorTexels<GpuInstance>,
     vertices: MirrorBuffer<GpuVertex>,
     indices: MirrorBuffer<u32>,
     meshes: MirrorBuffer<GpuMesh>,
@@ -99,18 +104,32 @@ pub struct GpuScene {
 
 const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE;
 
-/// The bindings of group(0), in order (every one a read-only storage buffer).
-const BINDINGS: [u32; 17] = [0, 1, 2, 3, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20];
+/// The bindings of group(0) that are texel arrays (`Rgba32Uint` textures), in order.
+const TEXEL_BINDINGS: [u32; 4] = [0, 1, 2, 4];
+
+/// The bindings of group(0) that are read-only storage buffers, in order.
+const BUFFER_BINDINGS: [u32; 14] = [3, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20];
 
 impl GpuScene {
     /// Empty buffers on `device`; the first [`upload_gpu_scene`] fills them.
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Self {
-        let entries: Vec<_> = BINDINGS
+        let texel_array = wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Uint,
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        };
+        let entries: Vec<_> = TEXEL_BINDINGS
             .iter()
-            .map(|&binding| wgpu::BindGroupLayoutEntry {
+            .map(|&binding| (binding, texel_array))
+            .chain(
+                BUFFER_BINDINGS
+                    .iter()
+                    .map(|&binding| (binding, crate::passes::storage(true))),
+            )
+            .map(|(binding, ty)| wgpu::BindGroupLayoutEntry {
                 binding,
                 visibility: wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE,
-                ty: crate::passes::storage(true),
+                ty,
                 count: None,
             })
             .collect();
@@ -125,10 +144,11 @@ impl GpuScene {
             layout,
             bind_group: None,
             generation: 0,
-            blas_nodes: MirrorBuffer::new(d, "scene blas nodes", STORAGE),
-            triangles: MirrorBuffer::new(d, "scene blas triangles", STORAGE),
-            tlas_nodes: MirrorBuffer::new(d, "scene tlas nodes", STORAGE),
+            blas_nodes: MirrorTexels::new(d, "scene blas nodes"),
+            triangles: MirrorTexels::new(d, "scene blas triangles"),
+            tlas_nodes: MirrorTexels::new(d, "scene tlas nodes"),
             instances: MirrorBuffer::new(d, "scene instances", STORAGE),
+            instance_texels: MirrorTexels::new(d, "scene instance texels"),
             vertices: MirrorBuffer::new(d, "scene vertices", STORAGE),
             indices: MirrorBuffer::new(d, "scene indices", STORAGE),
             meshes: MirrorBuffer::new(d, "scene meshes", STORAGE),
@@ -180,11 +200,27 @@ impl GpuScene {
         self.instances.contents()
     }
 
-    fn buffers(&self) -> [&wgpu::Buffer; 17] {
+    fn texel_views(&self) -> [&wgpu::TextureView; 4] {
         [
-            self.blas_nodes.buffer(),
-            self.triangles.buffer(),
-            self.tlas_nodes.buffer(),
+            self.blas_nodes.view(),
+            self.triangles.view(),
+            self.tlas_nodes.view(),
+            self.instance_texels.view(),
+        ]
+    }
+
+    /// Why the scene is not on the GPU whole: a BVH array larger than the device's largest
+    /// texture.
+    pub fn overflow(&self) -> Option<&TexelOverflow> {
+        self.blas_nodes
+            .overflow()
+            .or(self.triangles.overflow())
+            .or(self.tlas_nodes.overflow())
+            .or(self.instance_texels.overflow())
+    }
+
+    fn buffers(&self) -> [&wgpu::Buffer; 14] {
+        [
             self.instances.buffer(),
             self.vertices.buffer(),
             self.indices.buffer(),
@@ -203,15 +239,21 @@ impl GpuScene {
     }
 
     fn remake_bind_group(&mut self) {
-        let buffers = self.buffers();
-        let entries: Vec<_> = BINDINGS
+        let texels = TEXEL_BINDINGS
             .iter()
-            .zip(buffers)
+            .zip(self.texel_views())
+            .map(|(&binding, view)| wgpu::BindGroupEntry {
+                binding,
+                resource: wgpu::BindingResource::TextureView(view),
+            });
+        let buffers = BUFFER_BINDINGS
+            .iter()
+            .zip(self.buffers())
             .map(|(&binding, buffer)| wgpu::BindGroupEntry {
                 binding,
                 resource: buffer.as_entire_binding(),
-            })
-            .collect();
+            });
+        let entries: Vec<_> = texels.chain(buffers).collect();
         let group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("scene bind group"),
             layout: &self.layout,
@@ -227,6 +269,18 @@ macro_rules! put {
     ($scene:ident, $stats:ident, $realloc:ident, $field:ident, $data:expr) => {{
         let (d, q) = ($scene.device.clone(), $scene.queue.clone());
         $realloc |= $scene.$field.update(&d, &q, $data, &mut $stats);
+    }};
+}
+
+/// Writes `$data` into the texel array `$field`, noting a reallocation; an array too large for
+/// the device keeps its old contents and reports it ([`GpuScene::overflow`]).
+macro_rules! put_texels {
+    ($scene:ident, $stats:ident, $realloc:ident, $field:ident, $data:expr) => {{
+        let (d, q) = ($scene.device.clone(), $scene.queue.clone());
+        $realloc |= $scene
+            .$field
+            .update(&d, &q, $data, &mut $stats)
+            .unwrap_or(false);
     }};
 }
 
@@ -268,9 +322,10 @@ pub fn upload_gpu_scene(
                 ..TlasNode::default()
             });
         }
-        put!(scene, stats, realloc, blas_nodes, &flat.blas_nodes);
-        put!(scene, stats, realloc, triangles, &flat.triangles);
-        put!(scene, stats, realloc, tlas_nodes, &flat.tlas_nodes);
+        put_texels!(scene, stats, realloc, blas_nodes, &flat.blas_nodes);
+        put_texels!(scene, stats, realloc, triangles, &flat.triangles);
+        put_texels!(scene, stats, realloc, tlas_nodes, &flat.tlas_nodes);
+        put_texels!(scene, stats, realloc, instance_texels, &flat.instances);
         put!(scene, stats, realloc, instances, &flat.instances);
     }
     let meshes_changed = fresh || meshes.as_ref().is_some_and(|m| m.is_changed());

@@ -1,12 +1,14 @@
 //! A compute-shader harness for the parity tests: composes a test kernel (WGSL text that may
-//! `#import lib/...` modules), binds plain byte buffers as storage buffers, runs the kernel
-//! once per item and reads one output buffer back.
+//! `#import lib/...` modules), binds plain byte buffers as storage buffers (or as texel arrays,
+//! uploaded as the scene uploads its BVH), runs the kernel once per item and reads one output
+//! buffer back.
 //!
 //! Kernels use `@workgroup_size(64)` and index items by `global_invocation_id.x`; a run covers
 //! at most [`MAX_ITEMS`] items (the parity tests batch larger inputs).
 
-use chiaro_gpu::GpuContext;
+use chiaro_gpu::gpu_scene::MirrorTexels;
 use chiaro_gpu::shaders::{self, ShaderError};
+use chiaro_gpu::{GpuContext, UploadStats};
 
 /// Threads per workgroup every test kernel declares.
 pub const WORKGROUP_SIZE: u32 = 64;
@@ -111,6 +113,19 @@ impl Kernel {
     /// Runs `items` invocations with `inputs` bound read-only and `output` read-write, and
     /// returns the output buffer's bytes.
     pub fn run(&self, gpu: &GpuContext, inputs: &[Input], output: &Output, items: u32) -> Vec<u8> {
+        self.run_with_texels(gpu, inputs, &[], output, items)
+    }
+
+    /// [`Kernel::run`] with `texels` bound as texel arrays (`texture_2d<u32>`, the scene's
+    /// [`MirrorTexels`] layout; each input's bytes padded to whole texels).
+    pub fn run_with_texels(
+        &self,
+        gpu: &GpuContext,
+        inputs: &[Input],
+        texels: &[Input],
+        output: &Output,
+        items: u32,
+    ) -> Vec<u8> {
         assert!(
             items <= MAX_ITEMS,
             "{}: {items} items in one run",
@@ -130,6 +145,17 @@ impl Kernel {
             gpu.queue.write_buffer(&buffer, 0, &bytes);
             buffers.push((input.group, input.binding, buffer));
         }
+        let mut arrays = Vec::new();
+        for input in texels {
+            let mut bytes = input.data.to_vec();
+            bytes.resize(input.data.len().next_multiple_of(16), 0);
+            let records: Vec<[u32; 4]> = bytemuck::pod_collect_to_vec(&bytes);
+            let mut array = MirrorTexels::new(device, "test texels");
+            array
+                .update(device, &gpu.queue, &records, &mut UploadStats::default())
+                .unwrap_or_else(|e| panic!("{}: {e}", self.label));
+            arrays.push((input.group, input.binding, array));
+        }
         let size = output.size.max(4).next_multiple_of(4);
         let out = device.create_buffer(&wgpu::BufferDescriptor {
             label,
@@ -145,37 +171,46 @@ impl Kernel {
         });
         let groups: Vec<u32> = {
             let mut g: Vec<u32> = buffers.iter().map(|b| b.0).collect();
+            g.extend(arrays.iter().map(|a| a.0));
             g.push(output.group);
             g.sort_unstable();
             g.dedup();
             g
         };
-        let bind_groups: Vec<(u32, wgpu::BindGroup)> = groups
-            .iter()
-            .map(|&group| {
-                let mut entries: Vec<wgpu::BindGroupEntry> = buffers
-                    .iter()
-                    .filter(|b| b.0 == group)
-                    .map(|(_, binding, buffer)| wgpu::BindGroupEntry {
-                        binding: *binding,
-                        resource: buffer.as_entire_binding(),
-                    })
-                    .collect();
-                if output.group == group {
-                    entries.push(wgpu::BindGroupEntry {
-                        binding: output.binding,
-                        resource: out.as_entire_binding(),
+        let bind_groups: Vec<(u32, wgpu::BindGroup)> =
+            groups
+                .iter()
+                .map(|&group| {
+                    let mut entries: Vec<wgpu::BindGroupEntry> =
+                        buffers
+                            .iter()
+                            .filter(|b| b.0 == group)
+                            .map(|(_, binding, buffer)| wgpu::BindGroupEntry {
+                                binding: *binding,
+                                resource: buffer.as_entire_binding(),
+                            })
+                            .chain(arrays.iter().filter(|a| a.0 == group).map(
+                                |(_, binding, array)| wgpu::BindGroupEntry {
+                                    binding: *binding,
+                                    resource: wgpu::BindingResource::TextureView(array.view()),
+                                },
+                            ))
+                            .collect();
+                    if output.group == group {
+                        entries.push(wgpu::BindGroupEntry {
+                            binding: output.binding,
+                            resource: out.as_entire_binding(),
+                        });
+                    }
+                    let layout = self.pipeline.get_bind_group_layout(group);
+                    let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                        label,
+                        layout: &layout,
+                        entries: &entries,
                     });
-                }
-                let layout = self.pipeline.get_bind_group_layout(group);
-                let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label,
-                    layout: &layout,
-                    entries: &entries,
-                });
-                (group, bind_group)
-            })
-            .collect();
+                    (group, bind_group)
+                })
+                .collect();
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label });
         {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
