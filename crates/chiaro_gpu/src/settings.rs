@@ -83,7 +83,9 @@ pub struct DenoiseSettings {
     /// lower: blurs across creases.
     pub sigma_normal: f32,
     /// Luminance edge-stopping in standard deviations (sigma_l of SVGF). Higher: smooths more
-    /// noise and more lighting detail; lower: keeps detail and noise.
+    /// noise and more lighting detail; lower: keeps detail and noise. The default is 2, not
+    /// SVGF's 4: with 4 the filter smears the thin sun shadows of environment-lit scenes (the
+    /// bench's glTF scenes err up to 6 times more after 64 frames), see BENCHMARKS.md.
     pub sigma_luminance: f32,
 }
 
@@ -95,7 +97,7 @@ impl Default for DenoiseSettings {
             atrous_iterations: 5,
             sigma_depth: 1.0,
             sigma_normal: 128.0,
-            sigma_luminance: 4.0,
+            sigma_luminance: 2.0,
         }
     }
 }

@@ -4,18 +4,19 @@
 //! at 0.5 and 2 (luminance of one indirect path).
 //!
 //! Measured (32x32, 32 frames, defaults otherwise, seeds 1 and 2; CPU reference 1024 spp, own
-//! noise 1.3e-3; image mean 0.4972), with the sun's exact light outside the denoiser and the
-//! clamp on the indirect paths and the direct pass's BRDF sample:
+//! noise 1.3e-3; image mean 0.4972), with the sun's exact light outside the denoiser, the
+//! clamp on the indirect paths and the direct pass's BRDF sample, and the a-trous filter's
+//! luminance sigma at 2:
 //!
 //! | clamp | relMSE seed 1 | relMSE seed 2 | image mean (seed 2) |
 //! |---|---|---|---|
-//! | off | 4.40e-2 | 4.36e-2 | 0.4666 |
-//! | 0.5 | 3.75e-2 | 3.76e-2 | 0.4620 |
-//! | 2 | 4.19e-2 | 4.18e-2 | 0.4653 |
+//! | off | 3.26e-2 | 3.32e-2 | 0.4623 |
+//! | 0.5 | 2.98e-2 | 2.97e-2 | 0.4577 |
+//! | 2 | 3.13e-2 | 3.16e-2 | 0.4609 |
 //!
-//! The clamp lowers the error (a seventh at 0.5) for about 1% of the image's energy; most of
-//! the error left is the bounce cap's bias (the mean is 6% low without any clamp). Asserted,
-//! for each seed: relMSE at 0.5 below 0.9 x relMSE without the clamp; at 2 below it; and the
+//! The clamp lowers the error (a tenth at 0.5) for about 1% of the image's energy; most of
+//! the error left is the bounce cap's bias (the mean is 7% low without any clamp). Asserted,
+//! for each seed: relMSE at 0.5 below 0.95 x relMSE without the clamp; at 2 below it; and the
 //! clamp only removes energy (each clamped mean at most the unclamped one).
 
 mod common;
@@ -64,7 +65,7 @@ fn the_firefly_clamp_lowers_realtime_error_on_the_tiny_emitter() {
     }
     for (seed, ((off, half), two)) in runs[0].iter().zip(&runs[1]).zip(&runs[2]).enumerate() {
         assert!(
-            half.0 < 0.9 * off.0,
+            half.0 < 0.95 * off.0,
             "seed {}: clamp 0.5 relMSE {} against {} off",
             seed + 1,
             half.0,
