@@ -2,10 +2,11 @@
 //! this runs), on `builtin:instances?n=1000` with 40 moves (the timing is the example's, in
 //! release, not a test's):
 //!
-//! - moving one instance writes only the instance record, TLAS nodes and the per-instance
-//!   extras (the previous transform): never vertices, indices, BLAS nodes or triangles,
-//!   materials or lights; exactly one instance record and at most one extras record per move,
-//!   and under 5% of the TLAS's bytes;
+//! - moving one instance writes only the instance record (in the instance buffer and in the
+//!   traversal's texel array), TLAS nodes and the per-instance extras (the previous transform):
+//!   never vertices, indices, BLAS nodes or triangles, materials or lights; exactly one instance
+//!   record in each copy and at most one extras record per move, and under 5% of the TLAS's
+//!   bytes;
 //! - the BVH re-inserts (one TLAS update per move): no BLAS is built;
 //! - a material colour edit writes one material record and nothing else;
 //! - a run without edits writes nothing.
@@ -28,6 +29,7 @@ fn an_edit_uploads_what_changed_only() {
 
     let allowed = [
         "scene instance extras",
+        "scene instance texels",
         "scene instances",
         "scene tlas nodes",
     ];
@@ -38,11 +40,14 @@ fn an_edit_uploads_what_changed_only() {
     );
     let tlas_bytes = (cost.instances as usize * 2 - 1) * size_of::<TlasNode>();
     for (i, upload) in cost.move_uploads.iter().enumerate() {
-        assert_eq!(
-            upload.bytes_of("scene instances"),
-            size_of::<GpuInstance>() as u64,
-            "move {i}: {upload:?}"
-        );
+        // The moved instance's record, for the shading passes and for the traversal.
+        for copy in ["scene instances", "scene instance texels"] {
+            assert_eq!(
+                upload.bytes_of(copy),
+                size_of::<GpuInstance>() as u64,
+                "move {i}: {copy}: {upload:?}"
+            );
+        }
         assert!(
             upload.bytes_of("scene instance extras") <= size_of::<GpuInstanceExtra>() as u64,
             "move {i}: {upload:?}"
