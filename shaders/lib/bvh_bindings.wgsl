@@ -15,6 +15,8 @@
 // uploaded as one TLAS node that is a leaf naming an instance past the end of `bvh_instances`
 // (for example TLAS_LEAF_BIT | 0x7fffffff): traversal skips such a leaf and finds nothing.
 
+#import lib/generated.wgsl
+
 // obvhs's CwBvhNode. `p` is not 16-byte aligned in the Rust record, so it is three floats.
 // Byte k of a vec2<u32> field is child slot k (little-endian: word k / 4, bits 8 (k % 4)).
 struct CwBvhNode {
