@@ -10,15 +10,19 @@
 // emission, the environment and the albedo at silhouettes alias from frame to frame, and the
 // colour is averaged over frames along the motion vectors, its history clamped to the 3 x 3
 // neighbourhood of this frame's colours so that what moved leaves no ghost (temporal
-// anti-aliasing: Karis, "High Quality Temporal Supersampling", SIGGRAPH 2014 course); under
-// motion the history of other surfaces is left out, so that a bright emitter's does not smear
-// onto its dark surroundings. Non-finite
-// radiance never enters the sum or the history (DESIGN.md: tested by exponent bits).
+// anti-aliasing: Karis, "High Quality Temporal Supersampling", SIGGRAPH 2014 course). Under
+// motion the history is resampled with Catmull-Rom, clipped to the neighbourhood's mean and
+// standard deviation, kept shorter, and weighed against this frame by inverse luminance; the
+// history of another surface much brighter or darker is left out, so that a bright emitter's
+// does not smear onto its dark surroundings, and where no history is left the pixel starts
+// from a tent filter of this frame. Non-finite radiance never enters the sum or the history
+// (DESIGN.md: tested by exponent bits).
 
 #import lib/generated.wgsl
 #import lib/float.wgsl
 #import lib/gbuffer_packing.wgsl
 #import lib/demodulate.wgsl
+#import lib/color.wgsl
 
 // chiaro_gpu::passes::composite::CompositeParams.
 struct CompositeParams {
@@ -84,19 +88,82 @@ fn finite_radiance(pixel: vec2<i32>) -> vec3<f32> {
     return select(vec3<f32>(0.0), x, vec3_is_finite(x));
 }
 
-// Motion, in pixels per frame, from which the history of other surfaces is left out entirely.
+// Motion, in pixels per frame, from which the resolve treats the view as moving: the history
+// of other surfaces of a different brightness is left out, the history is clipped to
+// RESOLVE_CLIP_SIGMAS standard deviations, this frame weighs at least RESOLVE_MOVING_FLOOR and
+// colours weigh by resolve_tone_weight. Between 0 and this, it blends from the still view's
+// rules to those.
 const RESOLVE_OTHER_SURFACE_MOTION: f32 = 0.1;
 
+// Standard deviations of this frame's 3 x 3 neighbourhood the history may lie from its mean
+// under motion.
+const RESOLVE_CLIP_SIGMAS: f32 = 1.0;
+
+// Least weight of this frame in the resolve under motion (still: the denoiser's temporal
+// floor, 0.05 by default). Every moving frame resamples the history between pixels; a shorter
+// memory blurs a thin shadow less.
+const RESOLVE_MOVING_FLOOR: f32 = 0.3;
+
+// Luminance ratio from which the history of another surface is left out under motion.
+const RESOLVE_OTHER_SURFACE_CONTRAST: f32 = 8.0;
+
+// Whether history texel i may stand for a pixel that sees `surface` with luminance `lum`: it
+// saw the same surface, or one of a luminance within RESOLVE_OTHER_SURFACE_CONTRAST of it.
+fn resolve_compatible(i: u32, surface: u32, lum: f32) -> bool {
+    let h = max(luminance(resolve_previous[i].xyz), 0.0) + 1e-3;
+    let l = max(lum, 0.0) + 1e-3;
+    return resolve_previous_surface[i] == surface
+        || max(h, l) < RESOLVE_OTHER_SURFACE_CONTRAST * min(h, l);
+}
+
+// Under motion (`moving` 1), a colour's weight in the resolve's averages falls as 1 / (1 +
+// luminance), so that one jittered sample of a small bright emitter or highlight does not
+// outweigh the rest (Karis 2014); a still view (`moving` 0) weighs colours alike, so that its
+// history converges to the unbiased mean. Never below 1e-30, so that no sum of weights is 0.
+fn resolve_tone_weight(c: vec3<f32>, moving: f32) -> f32 {
+    return max(mix(1.0, 1.0 / (1.0 + max(luminance(c), 0.0)), moving), 1e-30);
+}
+
+// Catmull-Rom weights of the four taps at -1, 0, 1 and 2 around a position t in [0, 1) past
+// tap 0.
+fn catmull_rom_weights(t: f32) -> vec4<f32> {
+    let t2 = t * t;
+    let t3 = t2 * t;
+    return vec4<f32>(-0.5 * t + t2 - 0.5 * t3, 1.0 - 2.5 * t2 + 1.5 * t3,
+        0.5 * t + 2.0 * t2 - 1.5 * t3, -0.5 * t2 + 0.5 * t3);
+}
+
 // The resolve's history at the previous frame's position `at` (pixel units, texel centres at
-// integer + 0.5): bilinear over the taps inside the image, renormalised; w = -1 if none is
-// left. Taps that saw another surface than `surface` weigh `other` (1 on a still view, where
-// the jitter moves a pixel's sample across silhouettes and the history averages them; down to 0
-// as the view moves, so that one surface's history does not bleed into another's, as a bright
-// emitter's would into the dark ceiling around it).
-fn resolve_history(at: vec2<f32>, size: vec2<i32>, surface: u32, other: f32) -> vec4<f32> {
+// integer + 0.5), resampled with a Catmull-Rom filter over its 4 x 4 taps: a bilinear fetch
+// would blur the history a little more at every frame the view moves, and the resolve keeps
+// most of it frame after frame (Karis 2014 resamples TAA's history so, for the same reason).
+// Where a tap is outside the image or is not resolve_compatible with this pixel's `surface` and
+// luminance `lum`, bilinear over the 2 x 2 taps inside the image, renormalised, instead. There
+// the incompatible taps weigh `other`: 1 on a still view, where the jitter moves a pixel's
+// sample across silhouettes and the history averages them; down to 0 as the view moves, so
+// that a bright emitter's history does not bleed into the dark ceiling around it. Taps of
+// other surfaces of a like brightness (a sphere's edge on the floor under it) stay: they are
+// the anti-aliased edge. w = -1 if no tap is left.
+fn resolve_history(at: vec2<f32>, size: vec2<i32>, surface: u32, lum: f32, other: f32)
+    -> vec4<f32> {
     let f = at - 0.5;
     let base = vec2<i32>(floor(f));
     let t = f - floor(f);
+    if all(base - 1 >= vec2<i32>(0)) && all(base + 2 < size) {
+        let wx = catmull_rom_weights(t.x);
+        let wy = catmull_rom_weights(t.y);
+        var sum = vec4<f32>(0.0);
+        var same = true;
+        for (var k = 0; k < 16; k++) {
+            let o = vec2<i32>(k & 3, k >> 2u);
+            let i = u32(base.y - 1 + o.y) * u32(size.x) + u32(base.x - 1 + o.x);
+            same = same && resolve_compatible(i, surface, lum);
+            sum += wx[o.x] * wy[o.y] * resolve_previous[i];
+        }
+        if same {
+            return sum;
+        }
+    }
     var sum = vec4<f32>(0.0);
     var total = 0.0;
     for (var k = 0; k < 4; k++) {
@@ -105,7 +172,7 @@ fn resolve_history(at: vec2<f32>, size: vec2<i32>, surface: u32, other: f32) -> 
         let w = select(1.0 - t.x, t.x, o.x == 1) * select(1.0 - t.y, t.y, o.y == 1);
         if all(q >= vec2<i32>(0)) && all(q < size) && w > 0.0 {
             let i = u32(q.y) * u32(size.x) + u32(q.x);
-            let w_surface = w * select(other, 1.0, resolve_previous_surface[i] == surface);
+            let w_surface = w * select(other, 1.0, resolve_compatible(i, surface, lum));
             sum += w_surface * resolve_previous[i];
             total += w_surface;
         }
@@ -117,7 +184,11 @@ fn resolve_history(at: vec2<f32>, size: vec2<i32>, surface: u32, other: f32) -> 
 }
 
 // The resolved colour: this frame's `x` averaged with the history found along the motion
-// vector (bilinear), the history clamped to the range of this frame's 3 x 3 neighbourhood.
+// vector (resolve_history), the history clamped to the range of this frame's 3 x 3
+// neighbourhood. Where the history's position is outside the image or no tap is left, the
+// history restarts: from `x` on a still view, from the 3 x 3 tent filter of this frame (weighed
+// by resolve_tone_weight) under motion, whose one jittered sample at a silhouette would
+// otherwise show for a frame with full weight.
 fn resolve(pixel: vec2<i32>, size: vec2<i32>, x: vec3<f32>) -> vec4<f32> {
     let motion = bitcast<vec2<f32>>(textureLoad(gbuffer_motion, pixel, 0).xy);
     let valid = f32_is_finite(motion.x) && f32_is_finite(motion.y);
@@ -125,25 +196,46 @@ fn resolve(pixel: vec2<i32>, size: vec2<i32>, x: vec3<f32>) -> vec4<f32> {
         return vec4<f32>(x, 1.0);
     }
     let other = clamp(1.0 - length(motion) / RESOLVE_OTHER_SURFACE_MOTION, 0.0, 1.0);
-    let history = resolve_history(vec2<f32>(pixel) + 0.5 + motion, size, resolve_surface(pixel),
-        other);
-    if history.w < 0.0 {
-        return vec4<f32>(x, 1.0);
-    }
+    let moving = 1.0 - other;
     var lo = x;
     var hi = x;
+    var sum = vec3<f32>(0.0);
+    var sum2 = vec3<f32>(0.0);
+    var tent = vec3<f32>(0.0);
+    var tent_weight = 0.0;
     for (var dy = -1; dy <= 1; dy++) {
         for (var dx = -1; dx <= 1; dx++) {
             let q = clamp(pixel + vec2<i32>(dx, dy), vec2<i32>(0), size - 1);
             let c = finite_radiance(q);
             lo = min(lo, c);
             hi = max(hi, c);
+            sum += c;
+            sum2 += c * c;
+            let w = f32((2 - abs(dx)) * (2 - abs(dy))) * resolve_tone_weight(c, moving);
+            tent += w * c;
+            tent_weight += w;
         }
     }
+    let at = vec2<f32>(pixel) + 0.5 + motion;
+    let history = resolve_history(at, size, resolve_surface(pixel), luminance(x), other);
+    if history.w < 0.0 || any(at < vec2<f32>(0.0)) || any(at >= vec2<f32>(size)) {
+        return vec4<f32>(mix(x, tent / tent_weight, moving), 1.0);
+    }
+    // Under motion, the range narrows to RESOLVE_CLIP_SIGMAS standard deviations about the
+    // neighbourhood's mean (variance clipping: Salvi, "An Excursion in Temporal Supersampling",
+    // GDC 2016): a moving view fetches its history between pixels, blending a thin shadow or
+    // highlight with its surroundings, and the full 3 x 3 range, which holds both, would keep the
+    // blend frame after frame. A still view keeps the full range, so that the history converges.
+    let mean = sum / 9.0;
+    let sigma = sqrt(max(sum2 / 9.0 - mean * mean, vec3<f32>(0.0)));
+    lo = max(lo, mix(lo, mean - RESOLVE_CLIP_SIGMAS * sigma, moving));
+    hi = min(hi, mix(hi, mean + RESOLVE_CLIP_SIGMAS * sigma, moving));
     let length = history.w + 1.0;
-    let weight = max(1.0 / length, params.resolve_floor);
+    let weight = max(1.0 / length, mix(params.resolve_floor, RESOLVE_MOVING_FLOOR, moving));
     let clamped = clamp(history.xyz, lo, hi);
-    return vec4<f32>(mix(clamped, x, weight), length);
+    let w_x = weight * resolve_tone_weight(x, moving);
+    let w_history = (1.0 - weight) * resolve_tone_weight(clamped, moving);
+    return vec4<f32>((w_x * x + w_history * clamped) / (w_x + w_history), length);
 }
 
 @compute @workgroup_size(8, 8)
