@@ -93,7 +93,7 @@ fn finite_radiance(pixel: vec2<i32>) -> vec3<f32> {
 // RESOLVE_CLIP_SIGMAS standard deviations, this frame weighs at least RESOLVE_MOVING_FLOOR and
 // colours weigh by resolve_tone_weight. Between 0 and this, it blends from the still view's
 // rules to those.
-const RESOLVE_OTHER_SURFACE_MOTION: f32 = 0.1;
+const RESOLVE_MOVING_FROM: f32 = 0.1;
 
 // Standard deviations of this frame's 3 x 3 neighbourhood the history may lie from its mean
 // under motion.
@@ -195,7 +195,7 @@ fn resolve(pixel: vec2<i32>, size: vec2<i32>, x: vec3<f32>) -> vec4<f32> {
     if (params.flags & COMPOSITE_RESET) != 0u || !valid {
         return vec4<f32>(x, 1.0);
     }
-    let other = clamp(1.0 - length(motion) / RESOLVE_OTHER_SURFACE_MOTION, 0.0, 1.0);
+    let other = clamp(1.0 - length(motion) / RESOLVE_MOVING_FROM, 0.0, 1.0);
     let moving = 1.0 - other;
     var lo = x;
     var hi = x;
