@@ -23,21 +23,32 @@ use chiaro_gpu::{RenderMode, Renderer};
 use chiaro_reference::PathSettings;
 use chiaro_scene::{ActiveCamera, Transform, load_scene};
 use glam::Quat;
+use glam::Vec3;
 use hard_cases_common::{cpu_reference, mode, settings};
+
+/// Image side of both tests.
+const SIZE: u32 = 48;
+
+/// `builtin:instances?n=64`, its CPU reference (512 spp) at [`SIZE`] and a renderer; `None`
+/// without a GPU.
+fn spheres_under_a_sun() -> Option<(World, Vec<Vec3>, Renderer)> {
+    let gpu = common::gpu()?;
+    let mut world = World::new();
+    load_scene(&mut world, "builtin:instances?n=64").unwrap();
+    let cpu = cpu_reference(&mut world, SIZE, 512, PathSettings::default()).image;
+    Some((world, cpu, Renderer::new(gpu)))
+}
 
 #[test]
 fn the_sun_shadows_of_small_spheres_stay_sharp_in_realtime() {
-    let Some(gpu) = common::gpu() else { return };
-    let size = 48;
-    let mut world = World::new();
-    load_scene(&mut world, "builtin:instances?n=64").unwrap();
-    let cpu = cpu_reference(&mut world, size, 512, PathSettings::default());
-    let mut renderer = Renderer::new(gpu);
+    let Some((mut world, cpu, mut renderer)) = spheres_under_a_sun() else {
+        return;
+    };
     let mut error = |m| {
         let out = renderer
-            .render(&mut world, &settings(size, 32, 3, mode(m)))
+            .render(&mut world, &settings(SIZE, 32, 3, mode(m)))
             .unwrap();
-        common::rel_mse(&out.hdr, &cpu.image)
+        common::rel_mse(&out.hdr, &cpu)
     };
     let realtime = error(RenderMode::Realtime);
     let reference = error(RenderMode::Reference);
@@ -61,15 +72,12 @@ fn the_sun_shadows_of_small_spheres_stay_sharp_in_realtime() {
 /// still camera's error after the same frames.
 #[test]
 fn the_sun_shadows_of_small_spheres_stay_sharp_in_a_pan() {
-    let Some(gpu) = common::gpu() else { return };
-    let size = 48;
-    let mut world = World::new();
-    load_scene(&mut world, "builtin:instances?n=64").unwrap();
-    let cpu = cpu_reference(&mut world, size, 512, PathSettings::default());
-    let mut renderer = Renderer::new(gpu);
+    let Some((mut world, cpu, mut renderer)) = spheres_under_a_sun() else {
+        return;
+    };
     let camera = world.resource::<ActiveCamera>().0;
     let pose = *world.get::<Transform>(camera).unwrap();
-    let s = settings(size, 1, 3, mode(RenderMode::Realtime));
+    let s = settings(SIZE, 1, 3, mode(RenderMode::Realtime));
     renderer.render(&mut world, &s).unwrap();
     for frame in 1..=32 {
         let degrees = 0.5 * frame.min(32 - frame) as f32;
@@ -77,14 +85,14 @@ fn the_sun_shadows_of_small_spheres_stay_sharp_in_a_pan() {
             pose.rotation * Quat::from_rotation_y(degrees.to_radians());
         renderer.accumulate(&mut world, &s, 1).unwrap();
     }
-    let panned = common::rel_mse(&renderer.read(&s).unwrap().hdr, &cpu.image);
+    let panned = common::rel_mse(&renderer.read(&s).unwrap().hdr, &cpu);
     let still = renderer
         .render(
             &mut world,
-            &settings(size, 33, 3, mode(RenderMode::Realtime)),
+            &settings(SIZE, 33, 3, mode(RenderMode::Realtime)),
         )
         .unwrap();
-    let still = common::rel_mse(&still.hdr, &cpu.image);
+    let still = common::rel_mse(&still.hdr, &cpu);
     eprintln!("pan relMSE {panned:.3e}, still camera {still:.3e}");
     assert!(panned < PAN_BOUND, "pan relMSE {panned:.3e}");
     assert!(
