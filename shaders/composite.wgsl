@@ -88,6 +88,28 @@ fn finite_radiance(pixel: vec2<i32>) -> vec3<f32> {
     return select(vec3<f32>(0.0), x, vec3_is_finite(x));
 }
 
+// This frame's finite radiance over the workgroup's 8 x 8 pixels and a border of one pixel
+// (NEIGHBOURHOOD_SIDE squared, row by row, coordinates clamped to the image): the resolve's
+// 3 x 3 neighbourhoods read it, so each pixel's radiance is composed once, not nine times.
+const NEIGHBOURHOOD_SIDE: u32 = 10u;
+var<workgroup> neighbourhood: array<vec3<f32>, 100>;
+
+// Fills `neighbourhood` for the workgroup whose first pixel is `origin`; `local` is the
+// invocation's index in the workgroup.
+fn fill_neighbourhood(origin: vec2<i32>, local: u32, size: vec2<i32>) {
+    for (var k = local; k < NEIGHBOURHOOD_SIDE * NEIGHBOURHOOD_SIDE; k += 64u) {
+        let offset = vec2<i32>(i32(k % NEIGHBOURHOOD_SIDE), i32(k / NEIGHBOURHOOD_SIDE)) - 1;
+        neighbourhood[k] = finite_radiance(clamp(origin + offset, vec2<i32>(0), size - 1));
+    }
+}
+
+// This frame's finite radiance at `pixel` + `offset` (each in -1..1), clamped to the image;
+// `local` is the pixel's position in its workgroup.
+fn neighbour(local: vec2<u32>, offset: vec2<i32>) -> vec3<f32> {
+    let at = vec2<u32>(vec2<i32>(local) + 1 + offset);
+    return neighbourhood[at.y * NEIGHBOURHOOD_SIDE + at.x];
+}
+
 // Motion, in pixels per frame, from which the resolve treats the view as moving: the history
 // of other surfaces of a different brightness is left out, the history is clipped to
 // RESOLVE_CLIP_SIGMAS standard deviations, this frame weighs at least RESOLVE_MOVING_FLOOR and
@@ -107,12 +129,13 @@ const RESOLVE_MOVING_FLOOR: f32 = 0.3;
 // Luminance ratio from which the history of another surface is left out under motion.
 const RESOLVE_OTHER_SURFACE_CONTRAST: f32 = 8.0;
 
-// Whether history texel i may stand for a pixel that sees `surface` with luminance `lum`: it
-// saw the same surface, or one of a luminance within RESOLVE_OTHER_SURFACE_CONTRAST of it.
-fn resolve_compatible(i: u32, surface: u32, lum: f32) -> bool {
-    let h = max(luminance(resolve_previous[i].xyz), 0.0) + 1e-3;
+// Whether a history texel (colour `history`, seen on `history_surface`) may stand for a pixel
+// that sees `surface` with luminance `lum`: it saw the same surface, or one of a luminance
+// within RESOLVE_OTHER_SURFACE_CONTRAST of it.
+fn resolve_compatible(history: vec4<f32>, history_surface: u32, surface: u32, lum: f32) -> bool {
+    let h = max(luminance(history.xyz), 0.0) + 1e-3;
     let l = max(lum, 0.0) + 1e-3;
-    return resolve_previous_surface[i] == surface
+    return history_surface == surface
         || max(h, l) < RESOLVE_OTHER_SURFACE_CONTRAST * min(h, l);
 }
 
@@ -157,8 +180,9 @@ fn resolve_history(at: vec2<f32>, size: vec2<i32>, surface: u32, lum: f32, other
         for (var k = 0; k < 16; k++) {
             let o = vec2<i32>(k & 3, k >> 2u);
             let i = u32(base.y - 1 + o.y) * u32(size.x) + u32(base.x - 1 + o.x);
-            same = same && resolve_compatible(i, surface, lum);
-            sum += wx[o.x] * wy[o.y] * resolve_previous[i];
+            let h = resolve_previous[i];
+            same = same && resolve_compatible(h, resolve_previous_surface[i], surface, lum);
+            sum += wx[o.x] * wy[o.y] * h;
         }
         if same {
             return sum;
@@ -172,8 +196,10 @@ fn resolve_history(at: vec2<f32>, size: vec2<i32>, surface: u32, lum: f32, other
         let w = select(1.0 - t.x, t.x, o.x == 1) * select(1.0 - t.y, t.y, o.y == 1);
         if all(q >= vec2<i32>(0)) && all(q < size) && w > 0.0 {
             let i = u32(q.y) * u32(size.x) + u32(q.x);
-            let w_surface = w * select(other, 1.0, resolve_compatible(i, surface, lum));
-            sum += w_surface * resolve_previous[i];
+            let h = resolve_previous[i];
+            let compatible = resolve_compatible(h, resolve_previous_surface[i], surface, lum);
+            let w_surface = w * select(other, 1.0, compatible);
+            sum += w_surface * h;
             total += w_surface;
         }
     }
@@ -189,7 +215,7 @@ fn resolve_history(at: vec2<f32>, size: vec2<i32>, surface: u32, lum: f32, other
 // history restarts: from `x` on a still view, from the 3 x 3 tent filter of this frame (weighed
 // by resolve_tone_weight) under motion, whose one jittered sample at a silhouette would
 // otherwise show for a frame with full weight.
-fn resolve(pixel: vec2<i32>, size: vec2<i32>, x: vec3<f32>) -> vec4<f32> {
+fn resolve(pixel: vec2<i32>, local: vec2<u32>, size: vec2<i32>, x: vec3<f32>) -> vec4<f32> {
     let motion = bitcast<vec2<f32>>(textureLoad(gbuffer_motion, pixel, 0).xy);
     let valid = f32_is_finite(motion.x) && f32_is_finite(motion.y);
     if (params.flags & COMPOSITE_RESET) != 0u || !valid {
@@ -205,8 +231,7 @@ fn resolve(pixel: vec2<i32>, size: vec2<i32>, x: vec3<f32>) -> vec4<f32> {
     var tent_weight = 0.0;
     for (var dy = -1; dy <= 1; dy++) {
         for (var dx = -1; dx <= 1; dx++) {
-            let q = clamp(pixel + vec2<i32>(dx, dy), vec2<i32>(0), size - 1);
-            let c = finite_radiance(q);
+            let c = neighbour(local, vec2<i32>(dx, dy));
             lo = min(lo, c);
             hi = max(hi, c);
             sum += c;
@@ -239,21 +264,29 @@ fn resolve(pixel: vec2<i32>, size: vec2<i32>, x: vec3<f32>) -> vec4<f32> {
 }
 
 @compute @workgroup_size(8, 8)
-fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+fn main(@builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(local_invocation_id) local: vec3<u32>,
+    @builtin(local_invocation_index) local_index: u32,
+    @builtin(workgroup_id) group: vec3<u32>) {
     let size = textureDimensions(hdr_out);
+    let resolving = (params.flags & COMPOSITE_RESOLVE) != 0u;
+    if resolving {
+        fill_neighbourhood(vec2<i32>(group.xy * 8u), local_index, vec2<i32>(size));
+    }
+    workgroupBarrier();
     if id.x >= size.x || id.y >= size.y {
         return;
     }
     let index = id.y * size.x + id.x;
-    let x = finite_radiance(vec2<i32>(id.xy));
-    if (params.flags & COMPOSITE_RESOLVE) != 0u {
-        let resolved = resolve(vec2<i32>(id.xy), vec2<i32>(size), x);
+    if resolving {
+        let x = neighbour(local.xy, vec2<i32>(0));
+        let resolved = resolve(vec2<i32>(id.xy), local.xy, vec2<i32>(size), x);
         resolve_next[index] = resolved;
         resolve_next_surface[index] = resolve_surface(vec2<i32>(id.xy));
         textureStore(hdr_out, vec2<i32>(id.xy), vec4<f32>(resolved.xyz, 1.0));
         return;
     }
-    var sum = vec4<f32>(x, 1.0);
+    var sum = vec4<f32>(finite_radiance(vec2<i32>(id.xy)), 1.0);
     if params.frames > 1u {
         sum += accumulation[index];
     }

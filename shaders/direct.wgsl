@@ -16,6 +16,9 @@
 // Apart, in direct_punctual_out: the punctual lights' part of the estimate where every one is
 // evaluated (punctual_lights_all_evaluated: no light picked at random, so no sampling noise),
 // else 0. The realtime denoiser leaves it out of the lighting it filters and adds it back.
+//
+// And in first_bounce_out, the BRDF ray's hit, for the indirect pass's first path to continue
+// from (lib/first_bounce.wgsl).
 
 #import lib/generated.wgsl
 #import lib/float.wgsl
@@ -28,6 +31,7 @@
 #import lib/surface.wgsl
 #import lib/next_event.wgsl
 #import lib/color.wgsl
+#import lib/first_bounce.wgsl
 
 // chiaro_gpu::passes::direct::DirectParams.
 struct DirectParams {
@@ -52,17 +56,19 @@ fn light_tree_sampling() -> bool {
 @group(1) @binding(4) var<storage, read> params: DirectParams;
 @group(1) @binding(5) var direct_out: texture_storage_2d<rgba32float, write>;
 @group(1) @binding(6) var direct_punctual_out: texture_storage_2d<rgba32float, write>;
+@group(1) @binding(7) var first_bounce_out: texture_storage_2d<rgba32uint, write>;
 
-// One BRDF sample: the emission or environment it reaches, weighted against light sampling.
-fn brdf_light(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
-    let u_lobe = pcg32_next_f32(rng);
-    let u = pcg32_next_vec2(rng);
-    let bs = brdf_sample(s.params, s.wo, u_lobe, u);
+// One BRDF sample drawn with `numbers` (first_bounce_numbers): the emission or environment it
+// reaches, weighted against light sampling; its hit goes to first_bounce_out.
+fn brdf_light(s: Shading, numbers: vec3<f32>, pixel: vec2<i32>) -> vec3<f32> {
+    let bs = brdf_sample(s.params, s.wo, numbers.x, numbers.yz);
     if !bs.valid || !vec3_is_finite(bs.weight) || all(bs.weight == vec3<f32>(0.0)) {
+        textureStore(first_bounce_out, pixel, first_bounce_not_traced());
         return vec3<f32>(0.0);
     }
     let wi = frame_to_world(s.frame, bs.wi);
     let hit = trace_closest(leaving_ray(s, wi), f32_infinity());
+    textureStore(first_bounce_out, pixel, first_bounce_encode(hit));
     return bs.weight * emission_reached(s, wi, hit, bs.pdf, !bs.delta);
 }
 
@@ -78,6 +84,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         let ray = camera_ray(camera, vec2<f32>(id.xy) + camera.jitter);
         textureStore(direct_out, pixel, vec4<f32>(environment_seen(ray.direction), 1.0));
         textureStore(direct_punctual_out, pixel, vec4<f32>(0.0));
+        textureStore(first_bounce_out, pixel, first_bounce_not_traced());
         return;
     }
     let g = gbuffer_unpack(texels);
@@ -86,11 +93,12 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if g.shades && params.lights != 0u {
         let s = gbuffer_shading(g, camera);
         let index = id.y * size.x + id.x;
-        var rng = pcg32_new(vec2<u32>(params.seed_lo, params.seed_hi), vec2<u32>(index, params.frame));
+        let seed = vec2<u32>(params.seed_lo, params.seed_hi);
+        var rng = pcg32_new(seed, vec2<u32>(index, params.frame));
         // next_event's two halves, in its order.
         punctual = punctual_light(s, &rng);
         let area = area_light(s, &rng);
-        let brdf = brdf_light(s, &rng);
+        let brdf = brdf_light(s, first_bounce_numbers(seed, index, params.frame), pixel);
         // The firefly clamp takes the samples whose value can be rare and huge: the BRDF
         // sample, and the punctual light picked at random; not the exact punctual part, nor
         // the area-light sample (light sampling: its value is about the light's true share).
@@ -100,6 +108,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             punctual_part = clamp_luminance(punctual, clamp);
         }
         radiance = punctual_part + area + clamp_luminance(brdf, clamp);
+    } else {
+        textureStore(first_bounce_out, pixel, first_bounce_not_traced());
     }
     textureStore(direct_out, pixel, vec4<f32>(radiance, 1.0));
     let exact = select(vec3<f32>(0.0), punctual, punctual_lights_all_evaluated());

@@ -1,5 +1,6 @@
-// The G-buffer: the scene rasterized with vertices pulled from the scene buffers, one draw
-// per instance. Per pixel: world position, geometric and shading normals
+// The G-buffer: the scene rasterized with vertices pulled from the scene buffers, one
+// instanced draw per run of consecutive instances of one mesh (instance_index is the
+// instance's index in bvh_instances). Per pixel: world position, geometric and shading normals
 // (octahedral, Cigolle et al., "A Survey of Efficient Representations for Independent Unit
 // Vectors", JCGT 3(2), 2014), base colour, metallic, roughness, emission, instance id and the
 // motion vector; depth in the depth attachment. Alpha-masked texels are discarded. Surfaces

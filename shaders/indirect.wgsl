@@ -24,8 +24,13 @@
 // x_d for d + 1 >= RUSSIAN_ROULETTE_FROM, survival max(throughput) clamped to
 // [RUSSIAN_ROULETTE_MIN, 1], survivors divided by it), so the estimate stays unbiased.
 //
+// The first path (not in naive mode) leaves x0 along the direct pass's BRDF ray and takes its
+// hit from first_bounce (lib/first_bounce.wgsl) instead of tracing it again; the other paths
+// draw and trace their own.
+//
 // Random numbers: one PCG32 per pixel and frame on stream (pixel index, frame | INDIRECT_STREAM),
-// independent of the direct pass's (pixel index, frame) for frames below 2^30.
+// independent of the direct pass's (pixel index, frame) for frames below 2^30; the first
+// path's first direction as lib/first_bounce.wgsl draws it.
 //
 // Firefly clamp (`firefly_clamp` > 0, realtime mode only): a path whose contribution has a
 // luminance above the clamp is scaled down to it, its colour kept. This trades the rare very
@@ -47,6 +52,7 @@
 #import lib/surface.wgsl
 #import lib/next_event.wgsl
 #import lib/color.wgsl
+#import lib/first_bounce.wgsl
 
 // chiaro_gpu::passes::indirect::IndirectParams.
 struct IndirectParams {
@@ -73,6 +79,7 @@ fn light_tree_sampling() -> bool {
 
 @group(1) @binding(4) var<storage, read> params: IndirectParams;
 @group(1) @binding(5) var indirect_out: texture_storage_2d<rgba32float, write>;
+@group(1) @binding(6) var first_bounce: texture_2d<u32>;
 
 // chiaro_reference's PathSettings::default().russian_roulette_from and its survival floor.
 const RUSSIAN_ROULETTE_FROM: u32 = 3u;
@@ -89,10 +96,23 @@ struct Scatter {
     valid: bool,
 }
 
+// The next direction from s by BRDF importance sampling with `numbers` (lobe choice in x, the
+// direction's 2D sample in yz).
+fn brdf_scatter(s: Shading, numbers: vec3<f32>) -> Scatter {
+    var out: Scatter;
+    let bs = brdf_sample(s.params, s.wo, numbers.x, numbers.yz);
+    out.wi = frame_to_world(s.frame, bs.wi);
+    out.weight = bs.weight;
+    out.pdf = bs.pdf;
+    out.delta = bs.delta;
+    out.valid = bs.valid;
+    return out;
+}
+
 // The next direction from s: BRDF importance sampling, or uniform over the hemisphere.
 fn scatter(s: Shading, rng: ptr<function, Pcg32>, naive: bool) -> Scatter {
-    var out: Scatter;
     if naive {
+        var out: Scatter;
         let wi = uniform_hemisphere(pcg32_next_vec2(rng));
         out.wi = frame_to_world(s.frame, wi);
         out.weight = brdf_eval(s.params, s.wo, wi) * (wi.z / UNIFORM_HEMISPHERE_PDF);
@@ -103,17 +123,19 @@ fn scatter(s: Shading, rng: ptr<function, Pcg32>, naive: bool) -> Scatter {
     }
     let u_lobe = pcg32_next_f32(rng);
     let u = pcg32_next_vec2(rng);
-    let bs = brdf_sample(s.params, s.wo, u_lobe, u);
-    out.wi = frame_to_world(s.frame, bs.wi);
-    out.weight = bs.weight;
-    out.pdf = bs.pdf;
-    out.delta = bs.delta;
-    out.valid = bs.valid;
-    return out;
+    return brdf_scatter(s, vec3<f32>(u_lobe, u));
 }
 
-// One path from the primary shading point x0: what the pass counts of its light.
-fn trace_path(x0: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
+// The direct pass's BRDF ray from x0, for the first path: the numbers of its direction and
+// its hit texel (first_bounce_traced false: trace it).
+struct FirstBounce {
+    numbers: vec3<f32>,
+    texel: vec4<u32>,
+}
+
+// One path from the primary shading point x0: what the pass counts of its light. With
+// `first_path`, its first step is `first`'s (not in naive mode).
+fn trace_path(x0: Shading, rng: ptr<function, Pcg32>, first_path: bool, first: FirstBounce) -> vec3<f32> {
     let naive = params.naive != 0u;
     var s = x0;
     var throughput = vec3<f32>(1.0);
@@ -122,7 +144,13 @@ fn trace_path(x0: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
         if depth > 0u && !naive {
             total += throughput * next_event(s, rng);
         }
-        let step = scatter(s, rng, naive);
+        let reuse = first_path && depth == 0u && !naive;
+        var step: Scatter;
+        if reuse {
+            step = brdf_scatter(s, first.numbers);
+        } else {
+            step = scatter(s, rng, naive);
+        }
         if !step.valid {
             break;
         }
@@ -139,7 +167,12 @@ fn trace_path(x0: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
             }
             throughput /= survive;
         }
-        let hit = trace_closest(ray, f32_infinity());
+        var hit: Hit;
+        if reuse && first_bounce_traced(first.texel) {
+            hit = first_bounce_decode(first.texel);
+        } else {
+            hit = trace_closest(ray, f32_infinity());
+        }
         if depth > 0u || naive {
             total += throughput * emission_reached(s, step.wi, hit, step.pdf,
                 !naive && !step.delta);
@@ -175,10 +208,12 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         if g.shades && params.spp > 0u {
             let x0 = gbuffer_shading(g, camera);
             let index = id.y * size.x + id.x;
-            var rng = pcg32_new(vec2<u32>(params.seed_lo, params.seed_hi),
-                vec2<u32>(index, params.frame | INDIRECT_STREAM));
+            let seed = vec2<u32>(params.seed_lo, params.seed_hi);
+            var rng = pcg32_new(seed, vec2<u32>(index, params.frame | INDIRECT_STREAM));
+            let first = FirstBounce(first_bounce_numbers(seed, index, params.frame),
+                textureLoad(first_bounce, pixel, 0));
             for (var i = 0u; i < params.spp; i++) {
-                radiance += trace_path(x0, &rng);
+                radiance += trace_path(x0, &rng, i == 0u, first);
             }
             radiance /= f32(params.spp);
         }

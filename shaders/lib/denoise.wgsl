@@ -23,6 +23,12 @@ struct DenoiseParams {
     pad: f32,
 }
 
+// log2(e): exp(x) = exp2(x log2(e)).
+const DENOISE_LOG2_E: f32 = 1.4426950408889634;
+// Least cosine between normals in the edge-stopping weight (log2(0) is -infinity): 1e-30^sigma_n
+// is 0 in f32 for any sigma_n of 2 or more.
+const DENOISE_MIN_COSINE: f32 = 1.0e-30;
+
 // Frames of history below which the variance pass estimates variance spatially.
 const DENOISE_SHORT_HISTORY: f32 = 4.0;
 
@@ -47,7 +53,7 @@ fn denoise_normal_encode(n: vec3<f32>) -> f32 {
 fn denoise_normal_decode(x: f32) -> vec3<f32> {
     let u = u32(x);
     let f = vec2<f32>(vec2<u32>(u & 4095u, u >> 12u)) / 4095.0 * 2.0 - 1.0;
-    return octahedral_decode(pack2x16snorm(f));
+    return octahedral_unfold(f);
 }
 
 fn denoise_edge_decode(t: vec4<f32>) -> DenoiseEdge {
@@ -63,14 +69,16 @@ fn denoise_edge_filtered(e: DenoiseEdge) -> bool {
 // `offset` (equation 3 to 5): depth against the centre's gradient along the offset, normals
 // raised to sigma_n, luminance in units of the centre's standard deviation `sigma_l_scaled`
 // (sigma_l x the prefiltered standard deviation). The luminance term is the exponent, so the
-// weight is exp(-depth term - luminance term) x normal term.
+// weight is exp(-depth term - luminance term) x normal term, computed as one power of 2:
+// exp2(sigma_n log2(n_p . n_q) - (depth term + luminance term) log2(e)), the cosine floored at
+// DENOISE_MIN_COSINE (where the normal term is 0 to f32 anyway).
 fn denoise_weight(p: DenoiseEdge, q: DenoiseEdge, offset: vec2<f32>, l_p: f32, l_q: f32,
     sigma_l_scaled: f32, params: DenoiseParams) -> f32 {
     if !denoise_edge_filtered(q) {
         return 0.0;
     }
     let w_z = abs(p.depth - q.depth) / (params.sigma_depth * abs(dot(p.gradient, offset)) + 1.0e-3 * p.depth + 1.0e-8);
-    let w_n = pow(max(dot(p.normal, q.normal), 0.0), params.sigma_normal);
+    let cosine = max(dot(p.normal, q.normal), DENOISE_MIN_COSINE);
     let w_l = abs(l_p - l_q) / (sigma_l_scaled + 1.0e-10);
-    return exp(-w_z - w_l) * w_n;
+    return exp2(params.sigma_normal * log2(cosine) - (w_z + w_l) * DENOISE_LOG2_E);
 }

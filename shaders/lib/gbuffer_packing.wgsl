@@ -35,7 +35,11 @@ fn octahedral_encode(n: vec3<f32>) -> u32 {
 }
 
 fn octahedral_decode(packed: u32) -> vec3<f32> {
-    let f = unpack2x16snorm(packed);
+    return octahedral_unfold(unpack2x16snorm(packed));
+}
+
+// The unit vector of octahedral coordinates f in [-1, 1]^2.
+fn octahedral_unfold(f: vec2<f32>) -> vec3<f32> {
     var n = vec3<f32>(f, 1.0 - abs(f.x) - abs(f.y));
     let t = clamp(-n.z, 0.0, 1.0);
     n.x += select(t, -t, n.x >= 0.0);

@@ -14,6 +14,8 @@ pub const MOTION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Uint;
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Format of the HDR images.
 pub const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// Format of the direct pass's BRDF-ray hits (`shaders/lib/first_bounce.wgsl`).
+pub const FIRST_BOUNCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 /// Format of the LDR image.
 pub const LDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 
@@ -81,6 +83,10 @@ pub struct FrameTargets {
     /// adds this back unfiltered, so a sun's sharp shadow is not blurred by the noise of the
     /// sampled light around it.
     pub direct_punctual: Target,
+    /// Where the direct pass's BRDF ray from the surface seen hit (instance, triangle,
+    /// barycentrics; `shaders/lib/first_bounce.wgsl`): the indirect pass's first path continues
+    /// from it rather than trace the same ray again.
+    pub first_bounce: Target,
     /// This frame's indirect light reflected by the surface seen (linear radiance, the mean of
     /// the frame's paths; in naive mode, all the light the surface reflects).
     pub indirect: Target,
@@ -118,6 +124,13 @@ impl FrameTargets {
                 device,
                 "direct punctual light",
                 HDR_FORMAT,
+                size,
+                storage,
+            ),
+            first_bounce: Target::new(
+                device,
+                "first bounce hits",
+                FIRST_BOUNCE_FORMAT,
                 size,
                 storage,
             ),

@@ -5,19 +5,20 @@
 //!
 //! Measured (32x32, 32 frames, defaults otherwise, seeds 1 and 2; CPU reference 1024 spp, own
 //! noise 1.3e-3; image mean 0.4972), with the sun's exact light outside the denoiser, the
-//! clamp on the indirect paths and the direct pass's BRDF sample, and the a-trous filter's
-//! luminance sigma at 2:
+//! clamp on the indirect paths and the direct pass's BRDF sample, the a-trous filter's
+//! luminance sigma at 2, and the first path continuing along the direct pass's BRDF ray:
 //!
 //! | clamp | relMSE seed 1 | relMSE seed 2 | image mean (seed 2) |
 //! |---|---|---|---|
-//! | off | 3.26e-2 | 3.32e-2 | 0.4623 |
-//! | 0.5 | 2.98e-2 | 2.97e-2 | 0.4577 |
-//! | 2 | 3.13e-2 | 3.16e-2 | 0.4609 |
+//! | off | 2.98e-2 | 3.13e-2 | 0.4611 |
+//! | 0.5 | 2.90e-2 | 2.97e-2 | 0.4575 |
+//! | 2 | 2.93e-2 | 3.06e-2 | 0.4604 |
 //!
-//! The clamp lowers the error (a tenth at 0.5) for about 1% of the image's energy; most of
-//! the error left is the bounce cap's bias (the mean is 7% low without any clamp). Asserted,
-//! for each seed: relMSE at 0.5 below 0.95 x relMSE without the clamp; at 2 below it; and the
-//! clamp only removes energy (each clamped mean at most the unclamped one).
+//! The clamp lowers the error (3 to 5% at 0.5; a tenth before the first path shared the direct
+//! pass's ray, which lowered the unclamped error by 6 to 9%) for about 1% of the image's
+//! energy; most of the error left is the bounce cap's bias (the mean is 7% low without any
+//! clamp). Asserted, for each seed: relMSE at 0.5 and at 2 below relMSE without the clamp; and
+//! the clamp only removes energy (each clamped mean at most the unclamped one).
 
 mod common;
 mod hard_cases_common;
@@ -65,7 +66,7 @@ fn the_firefly_clamp_lowers_realtime_error_on_the_tiny_emitter() {
     }
     for (seed, ((off, half), two)) in runs[0].iter().zip(&runs[1]).zip(&runs[2]).enumerate() {
         assert!(
-            half.0 < 0.95 * off.0,
+            half.0 < off.0,
             "seed {}: clamp 0.5 relMSE {} against {} off",
             seed + 1,
             half.0,

@@ -67,6 +67,7 @@ fn modules_with_hooks_validate_with_the_scenes_hooks() {
         "lib/bvh.wgsl",
         "lib/scene_bindings.wgsl",
         "lib/environment.wgsl",
+        "lib/first_bounce.wgsl",
     ]);
     let module = validate("bvh + environment", &source);
     for f in [
@@ -74,6 +75,7 @@ fn modules_with_hooks_validate_with_the_scenes_hooks() {
         "trace_any",
         "environment_sample",
         "environment_pdf",
+        "first_bounce_numbers",
     ] {
         assert!(
             module

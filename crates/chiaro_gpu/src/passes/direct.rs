@@ -1,12 +1,13 @@
 //! `direct`: one frame's direct-light estimate per pixel from the G-buffer (see
 //! `shaders/direct.wgsl`): the light the surface reflects from punctual lights, one
 //! MIS-weighted area-light sample and one BRDF sample, each light sample with one shadow ray;
-//! and apart, the punctual lights' part when it has no sampling noise (every light evaluated).
+//! and apart, the punctual lights' part when it has no sampling noise (every light evaluated),
+//! and the BRDF ray's hit for the indirect pass.
 
 use bytemuck::{Pod, Zeroable};
 
 use super::shading_pass::{GbufferShadingPass, ShadingKind};
-use crate::targets::{FrameTargets, Target};
+use crate::targets::{FIRST_BOUNCE_FORMAT, FrameTargets, HDR_FORMAT, Target};
 
 /// Fraction of the distance to a sampled light point that a shadow ray tests, so that the
 /// emitter does not occlude its own sample (the CPU reference's value).
@@ -37,16 +38,26 @@ pub struct DirectParams {
     pub pad: [u32; 2],
 }
 
-/// Selects the direct pass's shader and outputs: the direct light, and the part of it from
-/// punctual lights when every one is evaluated.
+/// Selects the direct pass's shader and outputs: the direct light, the part of it from
+/// punctual lights when every one is evaluated, and where its BRDF ray hit.
 pub struct DirectKind;
 
 impl ShadingKind for DirectKind {
     const NAME: &'static str = "direct";
-    const OUTPUTS: u32 = 2;
+    const OUTPUT_FORMATS: &'static [wgpu::TextureFormat] =
+        &[HDR_FORMAT, HDR_FORMAT, FIRST_BOUNCE_FORMAT];
+    const INPUTS: u32 = 0;
 
     fn outputs(targets: &FrameTargets) -> Vec<&Target> {
-        vec![&targets.direct, &targets.direct_punctual]
+        vec![
+            &targets.direct,
+            &targets.direct_punctual,
+            &targets.first_bounce,
+        ]
+    }
+
+    fn inputs(_: &FrameTargets) -> Vec<&Target> {
+        Vec::new()
     }
 }
 

@@ -1,9 +1,11 @@
-//! `gbuffer`: rasterizes every instance (vertices pulled from the scene buffers, one draw per
-//! instance) into the G-buffer targets: position, normals, base colour, metallic, roughness,
+//! `gbuffer`: rasterizes every instance (vertices pulled from the scene buffers, one instanced
+//! draw per run of consecutive instances of one mesh) into the G-buffer targets: position, normals, base colour, metallic, roughness,
 //! emission, instance id and motion vectors, plus depth (reversed: the near plane at 1,
 //! infinitely far at 0; see [`crate::camera`]). No face is
 //! culled: a back face of a single-sided material is drawn and marked as not shading, as the
 //! CPU reference treats it.
+
+use std::ops::Range;
 
 use crate::gpu_scene::GpuScene;
 use crate::shaders::ShaderError;
@@ -108,14 +110,25 @@ impl GbufferPass {
         pass.set_bind_group(0, scene_group, &[]);
         pass.set_bind_group(1, camera, &[]);
         let meshes = scene.meshes();
-        for (i, instance) in scene.instances().iter().enumerate() {
-            let Some(mesh) = meshes.get(instance.mesh as usize) else {
-                continue;
-            };
-            let i = i as u32;
-            pass.draw(0..3 * mesh.triangle_count, i..i + 1);
+        for (mesh, instances) in mesh_runs(scene.instances().iter().map(|i| i.mesh)) {
+            if let Some(mesh) = meshes.get(mesh as usize) {
+                pass.draw(0..3 * mesh.triangle_count, instances);
+            }
         }
     }
+}
+
+/// The runs of consecutive instances that draw the same mesh, given each instance's mesh in
+/// order: (mesh, instance range), one instanced draw each.
+fn mesh_runs(meshes: impl Iterator<Item = u32>) -> Vec<(u32, Range<u32>)> {
+    let mut runs: Vec<(u32, Range<u32>)> = Vec::new();
+    for (i, mesh) in (0u32..).zip(meshes) {
+        match runs.last_mut() {
+            Some((last, range)) if *last == mesh => range.end = i + 1,
+            _ => runs.push((mesh, i..i + 1)),
+        }
+    }
+    runs
 }
 
 /// The G-buffer's render pipeline compiled for `features`.
@@ -172,4 +185,16 @@ fn build_pipeline(
         multiview_mask: None,
         cache: None,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::mesh_runs;
+
+    #[test]
+    fn consecutive_instances_of_one_mesh_share_a_draw() {
+        let runs = mesh_runs([4, 4, 4, 1, 4, 4, 2].into_iter());
+        assert_eq!(runs, vec![(4, 0..3), (1, 3..4), (4, 4..6), (2, 6..7)]);
+        assert!(mesh_runs(std::iter::empty()).is_empty());
+    }
 }

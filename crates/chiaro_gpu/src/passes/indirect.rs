@@ -1,13 +1,14 @@
 //! `indirect`: one frame's indirect light per pixel from the G-buffer (see
 //! `shaders/indirect.wgsl`): the mean of `spp` paths from the surface seen, with next-event
 //! estimation and MIS at every later vertex and Russian roulette, up to `bounces` vertices
-//! after the primary one; or, in naive mode, paths of uniform hemisphere directions that carry
-//! all the light the surface reflects.
+//! after the primary one, the first path leaving along the direct pass's BRDF ray; or, in
+//! naive mode, paths of uniform hemisphere directions that carry all the light the surface
+//! reflects.
 
 use bytemuck::{Pod, Zeroable};
 
 use super::shading_pass::{GbufferShadingPass, ShadingKind};
-use crate::targets::{FrameTargets, Target};
+use crate::targets::{FrameTargets, HDR_FORMAT, Target};
 
 /// The pass's uniform (mirrored by `IndirectParams` in `shaders/indirect.wgsl`).
 #[repr(C)]
@@ -39,16 +40,20 @@ pub struct IndirectParams {
     pub pad: [u32; 3],
 }
 
-/// Selects the indirect pass's shader and output.
+/// Selects the indirect pass's shader, output and input (the direct pass's BRDF-ray hits).
 pub struct IndirectKind;
 
 impl ShadingKind for IndirectKind {
     const NAME: &'static str = "indirect";
-
-    const OUTPUTS: u32 = 1;
+    const OUTPUT_FORMATS: &'static [wgpu::TextureFormat] = &[HDR_FORMAT];
+    const INPUTS: u32 = 1;
 
     fn outputs(targets: &FrameTargets) -> Vec<&Target> {
         vec![&targets.indirect]
+    }
+
+    fn inputs(targets: &FrameTargets) -> Vec<&Target> {
+        vec![&targets.first_bounce]
     }
 }
 

@@ -1,7 +1,7 @@
 //! What the `direct` and `indirect` passes share: a compute shader over the G-buffer, one
 //! invocation per pixel, with the scene in group 0 and, in group 1, the G-buffer's position,
 //! surface and emission targets, the camera (`shaders/lib/gbuffer_inputs.wgsl`), the pass's
-//! parameters and the HDR images it writes.
+//! parameters, the images it writes and the images of an earlier pass it reads.
 
 use std::marker::PhantomData;
 
@@ -10,16 +10,21 @@ use wgpu::TextureSampleType as S;
 use crate::gpu_scene::GpuScene;
 use crate::shaders::ShaderError;
 use crate::specialization::{PipelineFeatures, SpecializedPipelines};
-use crate::targets::{FrameTargets, HDR_FORMAT, Target};
+use crate::targets::{FrameTargets, Target};
 
 /// Which G-buffer shading pass: its shader and the images it writes.
 pub trait ShadingKind {
     /// The pass's name: its shader is `shaders/NAME.wgsl`, its wgpu objects are labelled with it.
     const NAME: &'static str;
-    /// How many images [`Self::outputs`] gives.
-    const OUTPUTS: u32;
+    /// The formats of the images [`Self::outputs`] gives, in its order.
+    const OUTPUT_FORMATS: &'static [wgpu::TextureFormat];
     /// The images the pass writes, bound from binding 5 on in this order.
     fn outputs(targets: &FrameTargets) -> Vec<&Target>;
+    /// How many images [`Self::inputs`] gives.
+    const INPUTS: u32;
+    /// The unsigned-integer images of an earlier pass that the pass reads with `textureLoad`,
+    /// bound after the outputs in this order.
+    fn inputs(targets: &FrameTargets) -> Vec<&Target>;
 }
 
 /// A compute pass that shades the G-buffer's pixels (see [`ShadingKind`]), with one pipeline
@@ -44,7 +49,9 @@ impl<K: ShadingKind> GbufferShadingPass<K> {
             e(3, params()),
             e(4, params()),
         ];
-        entries.extend((0..K::OUTPUTS).map(|k| e(5 + k, super::storage_texture(HDR_FORMAT))));
+        let outputs = K::OUTPUT_FORMATS.iter().map(|f| super::storage_texture(*f));
+        let inputs = (0..K::INPUTS).map(|_| texture(S::Uint));
+        entries.extend((5..).zip(outputs.chain(inputs)).map(|(b, ty)| e(b, ty)));
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some(&format!("{name} layout")),
             entries: &entries,
@@ -89,7 +96,7 @@ impl<K: ShadingKind> GbufferShadingPass<K> {
         ];
         entries.extend(
             (5..)
-                .zip(K::outputs(targets))
+                .zip(K::outputs(targets).into_iter().chain(K::inputs(targets)))
                 .map(|(b, t)| view(b, &t.view)),
         );
         device.create_bind_group(&wgpu::BindGroupDescriptor {
