@@ -28,9 +28,11 @@
 // hit from first_bounce (lib/first_bounce.wgsl) instead of tracing it again; the other paths
 // draw and trace their own.
 //
-// Random numbers: one PCG32 per pixel and frame on stream (pixel index, frame | INDIRECT_STREAM),
-// independent of the direct pass's (pixel index, frame) for frames below 2^30; the first
-// path's first direction as lib/first_bounce.wgsl draws it.
+// Random numbers: one PCG32 per pixel and frame on stream (pixel index, frame | INDIRECT_STREAM);
+// the first path's first direction as lib/first_bounce.wgsl draws it. The stream differs from
+// the direct pass's (pixel index, frame) in one high bit only, so after seeding the two states
+// agree at every other step and the passes share half their numbers: the two estimates are
+// correlated, which does not bias their sum (each is unbiased alone).
 //
 // Firefly clamp (`firefly_clamp` > 0, realtime mode only): a path whose contribution has a
 // luminance above the clamp is scaled down to it, its colour kept. This trades the rare very

@@ -16,9 +16,10 @@
 
 // XORed into the frame's seed (the 64-bit golden ratio of SplitMix64, as (low, high)). The
 // generator is on the direct pass's stream (pixel index, frame), at another seed: a state that
-// far along the same sequence. A stream of its own would not do: PCG32 streams whose
-// increments differ only in high bits give outputs that are bit rotations of each other, and
-// the first path's direction would be correlated with the numbers of its later vertices.
+// far along the same sequence. A stream of its own would not do: PCG32 generators whose
+// increments differ only in high bits have states that differ only in those bits, so their
+// outputs are near copies, and the first path's direction would be correlated with the numbers
+// of its later vertices.
 const FIRST_BOUNCE_SEED: vec2<u32> = vec2<u32>(0x7f4a7c15u, 0x9e3779b9u);
 // No ray was traced: the reader traces its own.
 const FIRST_BOUNCE_NOT_TRACED: u32 = 0xfffffffeu;
