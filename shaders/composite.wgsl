@@ -88,16 +88,19 @@ fn finite_radiance(pixel: vec2<i32>) -> vec3<f32> {
     return select(vec3<f32>(0.0), x, vec3_is_finite(x));
 }
 
-// This frame's finite radiance over the workgroup's 8 x 8 pixels and a border of one pixel
+// The workgroup's side in pixels.
+const GROUP_SIDE: u32 = 8u;
+
+// This frame's finite radiance over the workgroup's pixels and a border of one pixel
 // (NEIGHBOURHOOD_SIDE squared, row by row, coordinates clamped to the image): the resolve's
 // 3 x 3 neighbourhoods read it, so each pixel's radiance is composed once, not nine times.
-const NEIGHBOURHOOD_SIDE: u32 = 10u;
-var<workgroup> neighbourhood: array<vec3<f32>, 100>;
+const NEIGHBOURHOOD_SIDE: u32 = GROUP_SIDE + 2u;
+var<workgroup> neighbourhood: array<vec3<f32>, NEIGHBOURHOOD_SIDE * NEIGHBOURHOOD_SIDE>;
 
 // Fills `neighbourhood` for the workgroup whose first pixel is `origin`; `local` is the
 // invocation's index in the workgroup.
 fn fill_neighbourhood(origin: vec2<i32>, local: u32, size: vec2<i32>) {
-    for (var k = local; k < NEIGHBOURHOOD_SIDE * NEIGHBOURHOOD_SIDE; k += 64u) {
+    for (var k = local; k < NEIGHBOURHOOD_SIDE * NEIGHBOURHOOD_SIDE; k += GROUP_SIDE * GROUP_SIDE) {
         let offset = vec2<i32>(i32(k % NEIGHBOURHOOD_SIDE), i32(k / NEIGHBOURHOOD_SIDE)) - 1;
         neighbourhood[k] = finite_radiance(clamp(origin + offset, vec2<i32>(0), size - 1));
     }
@@ -263,7 +266,7 @@ fn resolve(pixel: vec2<i32>, local: vec2<u32>, size: vec2<i32>, x: vec3<f32>) ->
     return vec4<f32>((w_x * x + w_history * clamped) / (w_x + w_history), length);
 }
 
-@compute @workgroup_size(8, 8)
+@compute @workgroup_size(GROUP_SIDE, GROUP_SIDE)
 fn main(@builtin(global_invocation_id) id: vec3<u32>,
     @builtin(local_invocation_id) local: vec3<u32>,
     @builtin(local_invocation_index) local_index: u32,
@@ -271,7 +274,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>,
     let size = textureDimensions(hdr_out);
     let resolving = (params.flags & COMPOSITE_RESOLVE) != 0u;
     if resolving {
-        fill_neighbourhood(vec2<i32>(group.xy * 8u), local_index, vec2<i32>(size));
+        fill_neighbourhood(vec2<i32>(group.xy * GROUP_SIDE), local_index, vec2<i32>(size));
     }
     workgroupBarrier();
     if id.x >= size.x || id.y >= size.y {

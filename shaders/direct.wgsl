@@ -59,16 +59,15 @@ fn light_tree_sampling() -> bool {
 @group(1) @binding(7) var first_bounce_out: texture_storage_2d<rgba32uint, write>;
 
 // One BRDF sample drawn with `numbers` (first_bounce_numbers): the emission or environment it
-// reaches, weighted against light sampling; its hit goes to first_bounce_out.
-fn brdf_light(s: Shading, numbers: vec3<f32>, pixel: vec2<i32>) -> vec3<f32> {
+// reaches, weighted against light sampling; `first` gets its hit when a ray is traced.
+fn brdf_light(s: Shading, numbers: vec3<f32>, first: ptr<function, vec4<u32>>) -> vec3<f32> {
     let bs = brdf_sample(s.params, s.wo, numbers.x, numbers.yz);
     if !bs.valid || !vec3_is_finite(bs.weight) || all(bs.weight == vec3<f32>(0.0)) {
-        textureStore(first_bounce_out, pixel, first_bounce_not_traced());
         return vec3<f32>(0.0);
     }
     let wi = frame_to_world(s.frame, bs.wi);
     let hit = trace_closest(leaving_ray(s, wi), f32_infinity());
-    textureStore(first_bounce_out, pixel, first_bounce_encode(hit));
+    *first = first_bounce_encode(hit);
     return bs.weight * emission_reached(s, wi, hit, bs.pdf, !bs.delta);
 }
 
@@ -90,6 +89,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let g = gbuffer_unpack(texels);
     var radiance = vec3<f32>(0.0);
     var punctual = vec3<f32>(0.0);
+    var first = first_bounce_not_traced();
     if g.shades && params.lights != 0u {
         let s = gbuffer_shading(g, camera);
         let index = id.y * size.x + id.x;
@@ -98,7 +98,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         // next_event's two halves, in its order.
         punctual = punctual_light(s, &rng);
         let area = area_light(s, &rng);
-        let brdf = brdf_light(s, first_bounce_numbers(seed, index, params.frame), pixel);
+        let brdf = brdf_light(s, first_bounce_numbers(seed, index, params.frame), &first);
         // The firefly clamp takes the samples whose value can be rare and huge: the BRDF
         // sample, and the punctual light picked at random; not the exact punctual part, nor
         // the area-light sample (light sampling: its value is about the light's true share).
@@ -108,9 +108,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             punctual_part = clamp_luminance(punctual, clamp);
         }
         radiance = punctual_part + area + clamp_luminance(brdf, clamp);
-    } else {
-        textureStore(first_bounce_out, pixel, first_bounce_not_traced());
     }
+    textureStore(first_bounce_out, pixel, first);
     textureStore(direct_out, pixel, vec4<f32>(radiance, 1.0));
     let exact = select(vec3<f32>(0.0), punctual, punctual_lights_all_evaluated());
     textureStore(direct_punctual_out, pixel, vec4<f32>(exact, 1.0));

@@ -2,6 +2,7 @@
 //! textures, punctual lights, the area-light table and the environment.
 
 use std::f32::consts::PI;
+use std::ops::Range;
 
 use chiaro_bvh::SceneBvh;
 use chiaro_scene::material::{Filter, WrapMode};
@@ -14,6 +15,19 @@ use chiaro_shading::light_tree::LightBounds;
 use glam::Vec3;
 
 use super::layout::*;
+
+/// The runs of consecutive instances that draw the same mesh, given each instance's mesh in
+/// order: (mesh, instance range), one instanced G-buffer draw each.
+pub fn mesh_runs(meshes: impl Iterator<Item = u32>) -> Vec<(u32, Range<u32>)> {
+    let mut runs: Vec<(u32, Range<u32>)> = Vec::new();
+    for (i, mesh) in (0u32..).zip(meshes) {
+        match runs.last_mut() {
+            Some((last, range)) if *last == mesh => range.end = i + 1,
+            _ => runs.push((mesh, i..i + 1)),
+        }
+    }
+    runs
+}
 
 /// Vertices, indices (global vertex indices) and the per-mesh table.
 pub fn meshes(meshes: &Meshes) -> (Vec<GpuVertex>, Vec<u32>, Vec<GpuMesh>) {
@@ -428,6 +442,13 @@ pub fn environment(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn consecutive_instances_of_one_mesh_share_a_draw() {
+        let runs = mesh_runs([4, 4, 4, 1, 4, 4, 2].into_iter());
+        assert_eq!(runs, vec![(4, 0..3), (1, 3..4), (4, 4..6), (2, 6..7)]);
+        assert!(mesh_runs(std::iter::empty()).is_empty());
+    }
 
     #[test]
     fn distribution_matches_chiaro_shading() {

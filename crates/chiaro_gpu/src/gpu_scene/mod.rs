@@ -100,6 +100,7 @@ pub struct GpuScene {
     motion_pending: bool,
     current_transforms: Vec<[[f32; 4]; 3]>,
     area_first: Vec<u32>,
+    mesh_runs: Vec<(u32, std::ops::Range<u32>)>,
 }
 
 const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE;
@@ -172,6 +173,7 @@ impl GpuScene {
             motion_pending: false,
             current_transforms: Vec::new(),
             area_first: Vec::new(),
+            mesh_runs: Vec::new(),
         }
     }
 
@@ -198,6 +200,12 @@ impl GpuScene {
     /// The instances as uploaded.
     pub fn instances(&self) -> &[GpuInstance] {
         self.instances.contents()
+    }
+
+    /// The runs of consecutive instances of one mesh, as (mesh, instance range): the G-buffer
+    /// draws each with one instanced draw. Made when the instances are uploaded.
+    pub fn mesh_runs(&self) -> &[(u32, std::ops::Range<u32>)] {
+        &self.mesh_runs
     }
 
     fn texel_views(&self) -> [&wgpu::TextureView; 4] {
@@ -327,6 +335,7 @@ pub fn upload_gpu_scene(
         put_texels!(scene, stats, realloc, tlas_nodes, &flat.tlas_nodes);
         put_texels!(scene, stats, realloc, instance_texels, &flat.instances);
         put!(scene, stats, realloc, instances, &flat.instances);
+        scene.mesh_runs = gather::mesh_runs(flat.instances.iter().map(|i| i.mesh));
     }
     let meshes_changed = fresh || meshes.as_ref().is_some_and(|m| m.is_changed());
     if meshes_changed {

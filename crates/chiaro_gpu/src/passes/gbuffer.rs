@@ -5,8 +5,6 @@
 //! culled: a back face of a single-sided material is drawn and marked as not shading, as the
 //! CPU reference treats it.
 
-use std::ops::Range;
-
 use crate::gpu_scene::GpuScene;
 use crate::shaders::ShaderError;
 use crate::specialization::{PipelineFeatures, SpecializedPipelines};
@@ -110,25 +108,12 @@ impl GbufferPass {
         pass.set_bind_group(0, scene_group, &[]);
         pass.set_bind_group(1, camera, &[]);
         let meshes = scene.meshes();
-        for (mesh, instances) in mesh_runs(scene.instances().iter().map(|i| i.mesh)) {
-            if let Some(mesh) = meshes.get(mesh as usize) {
-                pass.draw(0..3 * mesh.triangle_count, instances);
+        for (mesh, instances) in scene.mesh_runs() {
+            if let Some(mesh) = meshes.get(*mesh as usize) {
+                pass.draw(0..3 * mesh.triangle_count, instances.clone());
             }
         }
     }
-}
-
-/// The runs of consecutive instances that draw the same mesh, given each instance's mesh in
-/// order: (mesh, instance range), one instanced draw each.
-fn mesh_runs(meshes: impl Iterator<Item = u32>) -> Vec<(u32, Range<u32>)> {
-    let mut runs: Vec<(u32, Range<u32>)> = Vec::new();
-    for (i, mesh) in (0u32..).zip(meshes) {
-        match runs.last_mut() {
-            Some((last, range)) if *last == mesh => range.end = i + 1,
-            _ => runs.push((mesh, i..i + 1)),
-        }
-    }
-    runs
 }
 
 /// The G-buffer's render pipeline compiled for `features`.
@@ -185,16 +170,4 @@ fn build_pipeline(
         multiview_mask: None,
         cache: None,
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::mesh_runs;
-
-    #[test]
-    fn consecutive_instances_of_one_mesh_share_a_draw() {
-        let runs = mesh_runs([4, 4, 4, 1, 4, 4, 2].into_iter());
-        assert_eq!(runs, vec![(4, 0..3), (1, 3..4), (4, 4..6), (2, 6..7)]);
-        assert!(mesh_runs(std::iter::empty()).is_empty());
-    }
 }
