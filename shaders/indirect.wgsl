@@ -28,11 +28,12 @@
 // hit from first_bounce (lib/first_bounce.wgsl) instead of tracing it again; the other paths
 // draw and trace their own.
 //
-// Random numbers: one PCG32 per pixel and frame on stream (pixel index, frame | INDIRECT_STREAM);
-// the first path's first direction as lib/first_bounce.wgsl draws it. The stream differs from
-// the direct pass's (pixel index, frame) in one high bit only, so after seeding the two states
-// agree at every other step and the passes share half their numbers: the two estimates are
-// correlated, which does not bias their sum (each is unbiased alone).
+// Random numbers: one PCG32 per pixel and frame, on the direct pass's stream (pixel index,
+// frame) at the seed XOR INDIRECT_SEED (a state far along the same sequence, as
+// lib/first_bounce.wgsl takes its own); the first path's first direction as
+// lib/first_bounce.wgsl draws it. A stream of its own would not do: PCG32 generators whose
+// increments differ only in high bits share their numbers (two streams differing in bit 63 of
+// the increment have equal states at every other step).
 //
 // Firefly clamp (`firefly_clamp` > 0, realtime mode only): a path whose contribution has a
 // luminance above the clamp is scaled down to it, its colour kept. This trades the rare very
@@ -86,8 +87,9 @@ fn light_tree_sampling() -> bool {
 // chiaro_reference's PathSettings::default().russian_roulette_from and its survival floor.
 const RUSSIAN_ROULETTE_FROM: u32 = 3u;
 const RUSSIAN_ROULETTE_MIN: f32 = 0.05;
-// Set in the high word of the random stream (bit 62 of the 63 that count).
-const INDIRECT_STREAM: u32 = 0x40000000u;
+// XORed into the frame's seed for the paths' numbers (SplitMix64's second multiplier, as
+// (low, high)).
+const INDIRECT_SEED: vec2<u32> = vec2<u32>(0x1ce4e5b9u, 0xbf58476du);
 
 // A direction to continue a path in: world direction, weight f cos / pdf, solid-angle pdf.
 struct Scatter {
@@ -211,7 +213,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             let x0 = gbuffer_shading(g, camera);
             let index = id.y * size.x + id.x;
             let seed = vec2<u32>(params.seed_lo, params.seed_hi);
-            var rng = pcg32_new(seed, vec2<u32>(index, params.frame | INDIRECT_STREAM));
+            var rng = pcg32_new(seed ^ INDIRECT_SEED, vec2<u32>(index, params.frame));
             let first = FirstBounce(first_bounce_numbers(seed, index, params.frame),
                 textureLoad(first_bounce, pixel, 0));
             for (var i = 0u; i < params.spp; i++) {
