@@ -8,21 +8,23 @@
 // running mean of independent frames is a progressive Monte Carlo estimate. The realtime mode
 // with its denoiser resolves instead: the G-buffer takes one jittered point per pixel, so the
 // emission, the environment and the albedo at silhouettes alias from frame to frame, and the
-// colour is averaged over frames along the motion vectors, its history clamped to the 3 x 3
-// neighbourhood of this frame's colours so that what moved leaves no ghost (temporal
-// anti-aliasing: Karis, "High Quality Temporal Supersampling", SIGGRAPH 2014 course). Under
-// motion the history is resampled with Catmull-Rom, clipped to the neighbourhood's mean and
-// standard deviation, kept shorter, and weighed against this frame by inverse luminance; the
-// history of another surface much brighter or darker is left out, so that a bright emitter's
-// does not smear onto its dark surroundings, and where no history is left the pixel starts
-// from a tent filter of this frame. Non-finite radiance never enters the sum or the history
-// (DESIGN.md: tested by exponent bits).
+// colour is averaged over frames along the motion vectors (where the camera sees the
+// environment, which the G-buffer gives none, along the camera's rotation), its history
+// clamped to the 3 x 3 neighbourhood of this frame's colours so that what moved leaves no
+// ghost (temporal anti-aliasing: Karis, "High Quality Temporal Supersampling", SIGGRAPH 2014
+// course). Under motion the history is resampled with Catmull-Rom, clipped to the
+// neighbourhood's mean and standard deviation, kept shorter, and weighed against this frame by
+// inverse luminance; the history of another surface much brighter or darker is left out, so
+// that a bright emitter's does not smear onto its dark surroundings, and where no history is
+// left the pixel starts from a tent filter of this frame. Non-finite radiance never enters the
+// sum or the history (DESIGN.md: tested by exponent bits).
 
 #import lib/generated.wgsl
 #import lib/float.wgsl
 #import lib/gbuffer_packing.wgsl
 #import lib/demodulate.wgsl
 #import lib/color.wgsl
+#import lib/camera.wgsl
 
 // chiaro_gpu::passes::composite::CompositeParams.
 struct CompositeParams {
@@ -52,6 +54,7 @@ struct CompositeParams {
 @group(0) @binding(13) var<storage, read_write> resolve_next_surface: array<u32>;
 // The punctual lights' exact part of direct_light, which the denoiser leaves out of its lighting.
 @group(0) @binding(14) var direct_punctual: texture_2d<f32>;
+@group(0) @binding(15) var<storage, read> camera: GpuCamera;
 
 // The surface a pixel sees: its instance + 1, or 0 where it sees none.
 fn resolve_surface(pixel: vec2<i32>) -> u32 {
@@ -212,6 +215,25 @@ fn resolve_history(at: vec2<f32>, size: vec2<i32>, surface: u32, lum: f32, other
     return sum / total;
 }
 
+// The motion of the environment seen at `pixel` (where the G-buffer drew nothing and left no
+// motion vector), in pixels from where it is now to where it was in the previous frame: a
+// direction at infinity moves with the camera's rotation alone. Zero for an orthographic camera
+// (every pixel sees the environment along the same direction); infinite (the history restarts)
+// where the previous camera did not look that way.
+fn environment_motion(pixel: vec2<i32>) -> vec2<f32> {
+    if camera.orthographic != 0u {
+        return vec2<f32>(0.0);
+    }
+    let d = camera_ray(camera, vec2<f32>(pixel) + 0.5).direction;
+    let now = camera.unjittered_view_proj * vec4<f32>(d, 0.0);
+    let before = camera.previous_view_proj * vec4<f32>(d, 0.0);
+    if now.w <= 0.0 || before.w <= 0.0 {
+        return vec2<f32>(f32_infinity());
+    }
+    let to_pixel = vec2<f32>(0.5, -0.5) * vec2<f32>(camera.width, camera.height);
+    return (before.xy / before.w - now.xy / now.w) * to_pixel;
+}
+
 // The resolved colour: this frame's `x` averaged with the history found along the motion
 // vector (resolve_history), the history clamped to the range of this frame's 3 x 3
 // neighbourhood. Where the history's position is outside the image or no tap is left, the
@@ -219,7 +241,10 @@ fn resolve_history(at: vec2<f32>, size: vec2<i32>, surface: u32, lum: f32, other
 // by resolve_tone_weight) under motion, whose one jittered sample at a silhouette would
 // otherwise show for a frame with full weight.
 fn resolve(pixel: vec2<i32>, local: vec2<u32>, size: vec2<i32>, x: vec3<f32>) -> vec4<f32> {
-    let motion = bitcast<vec2<f32>>(textureLoad(gbuffer_motion, pixel, 0).xy);
+    var motion = bitcast<vec2<f32>>(textureLoad(gbuffer_motion, pixel, 0).xy);
+    if resolve_surface(pixel) == 0u {
+        motion = environment_motion(pixel);
+    }
     let valid = f32_is_finite(motion.x) && f32_is_finite(motion.y);
     if (params.flags & COMPOSITE_RESET) != 0u || !valid {
         return vec4<f32>(x, 1.0);

@@ -73,6 +73,7 @@ impl CompositePass {
             e(12, storage(true)),
             e(13, storage(false)),
             e(14, texture(float)),
+            e(15, params()),
         ];
         Ok(Self {
             stage: ComputeStage::new(device, "composite", &entries)?,
@@ -80,13 +81,15 @@ impl CompositePass {
     }
 
     /// The pass's bind group; `filtered` is the denoiser's output; the resolve reads
-    /// `targets.resolve[parity]` and writes the other.
+    /// `targets.resolve[parity]` and writes the other; `camera` holds the frame's
+    /// [`crate::camera::GpuCamera`] (the motion of the environment seen).
     pub fn bind_group(
         &self,
         device: &wgpu::Device,
         targets: &FrameTargets,
         filtered: &wgpu::TextureView,
         params: &wgpu::Buffer,
+        camera: &wgpu::Buffer,
         parity: usize,
     ) -> wgpu::BindGroup {
         self.stage.bind_group(
@@ -107,6 +110,7 @@ impl CompositePass {
                 targets.resolve_surface[parity].as_entire_binding(),
                 targets.resolve_surface[1 - parity].as_entire_binding(),
                 view(&targets.direct_punctual.view),
+                camera.as_entire_binding(),
             ],
         )
     }
