@@ -145,7 +145,13 @@ pub struct GpuContext {
     pub queue: wgpu::Queue,
     /// Whether the device has timestamp queries (passes are then timed on the GPU).
     pub timestamps: bool,
+    /// Tells this context's device from every other this process made (wgpu's handles of
+    /// devices from different instances may compare equal).
+    pub id: u64,
 }
+
+/// The next [`GpuContext::id`].
+static NEXT_CONTEXT_ID: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
 
 impl GpuContext {
     /// A context on the best adapter of the backends wgpu's environment variables allow
@@ -246,6 +252,7 @@ impl GpuContext {
             device,
             queue,
             timestamps,
+            id: NEXT_CONTEXT_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
         })
     }
 

@@ -241,7 +241,14 @@ impl Frame {
             direct_group: direct.bind_group(device, &targets, &camera, &direct_params),
             indirect_group: indirect.bind_group(device, &targets, &camera, &indirect_params),
             composite_groups: [0, 1].map(|parity| {
-                composite.bind_group(device, &targets, filtered, &composite_params, &camera, parity)
+                composite.bind_group(
+                    device,
+                    &targets,
+                    filtered,
+                    &composite_params,
+                    &camera,
+                    parity,
+                )
             }),
             resolve_parity: 0,
             tonemap_group: tonemap.bind_group(device, &targets, &tonemap_params),

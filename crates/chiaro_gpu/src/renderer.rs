@@ -211,13 +211,18 @@ impl Renderer {
         Ok(times)
     }
 
-    /// Gives `world` the [`GpuScene`] resource that chiaro's systems upload into, if it has
-    /// none: an app that runs those systems in its own schedule calls this once before that
-    /// schedule first runs. The buffers belong to this renderer's device: a world is drawn by
-    /// renderers on one device.
+    /// Gives `world` the [`GpuScene`] resource that chiaro's systems upload into, unless it
+    /// holds one this renderer's context made: an app that runs those systems in its own
+    /// schedule calls this once before that schedule first runs. A world last drawn by a
+    /// renderer on another device gets new buffers on this one, which the next upload fills
+    /// whole.
     pub fn attach(&self, world: &mut World) {
-        if !world.contains_resource::<GpuScene>() {
-            let scene = GpuScene::new(&self.context.device, &self.context.queue);
+        let ours = world
+            .get_resource::<GpuScene>()
+            .is_some_and(|scene| scene.context == self.context.id);
+        if !ours {
+            let mut scene = GpuScene::new(&self.context.device, &self.context.queue);
+            scene.context = self.context.id;
             world.insert_resource(scene);
         }
     }

@@ -11,7 +11,9 @@ mod common;
 
 use bevy_ecs::world::World;
 use chiaro_gpu::{FrameSettings, RenderMode, RenderSettings, Renderer};
-use chiaro_scene::{ActiveCamera, Environment, EnvironmentSource, EquirectImage, Transform, load_scene};
+use chiaro_scene::{
+    ActiveCamera, Environment, EnvironmentSource, EquirectImage, Transform, load_scene,
+};
 use glam::{Quat, Vec3};
 
 const SIZE: u32 = 48;
@@ -92,7 +94,10 @@ fn the_sky_stays_sharp_while_the_camera_turns() {
         .map(Option::is_none)
         .collect();
     let seen = sky.iter().filter(|s| **s).count();
-    assert!(seen > (SIZE * SIZE / 2) as usize, "{seen} pixels see the sky");
+    assert!(
+        seen > (SIZE * SIZE / 2) as usize,
+        "{seen} pixels see the sky"
+    );
     let still = renderer
         .render(&mut world, &settings(RenderMode::Direct, 64))
         .unwrap();

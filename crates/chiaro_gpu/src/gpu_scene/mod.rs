@@ -66,6 +66,9 @@ pub struct GpuScene {
     bind_group: Option<wgpu::BindGroup>,
     /// Bumped whenever the bind group is remade.
     pub generation: u64,
+    /// The [`crate::GpuContext::id`] of the device the buffers live on, 0 when not known
+    /// (set by [`crate::Renderer::attach`]).
+    pub context: u64,
     blas_nodes: MirrorTexels<CwBvhNode>,
     triangles: MirrorTexels<BvhTriangle>,
     tlas_nodes: MirrorTexels<TlasNode>,
@@ -145,6 +148,7 @@ impl GpuScene {
             layout,
             bind_group: None,
             generation: 0,
+            context: 0,
             blas_nodes: MirrorTexels::new(d, "scene blas nodes"),
             triangles: MirrorTexels::new(d, "scene blas triangles"),
             tlas_nodes: MirrorTexels::new(d, "scene tlas nodes"),
