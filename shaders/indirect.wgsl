@@ -29,11 +29,8 @@
 // draw and trace their own.
 //
 // Random numbers: one PCG32 per pixel and frame, on the direct pass's stream (pixel index,
-// frame) at the seed XOR INDIRECT_SEED (a state far along the same sequence, as
-// lib/first_bounce.wgsl takes its own); the first path's first direction as
-// lib/first_bounce.wgsl draws it. A stream of its own would not do: PCG32 generators whose
-// increments differ only in high bits share their numbers (two streams differing in bit 63 of
-// the increment have equal states at every other step).
+// frame) at the seed XOR INDIRECT_SEED, for the reason lib/first_bounce.wgsl gives for its
+// own; the first path's first direction as lib/first_bounce.wgsl draws it.
 //
 // Firefly clamp (`firefly_clamp` > 0, realtime mode only): a path whose contribution has a
 // luminance above the clamp is scaled down to it, its colour kept. This trades the rare very

@@ -365,15 +365,8 @@ fn camera_pan_stays_close_to_the_reference() {
     let Some(gpu) = common::gpu() else { return };
     let mut renderer = Renderer::new(gpu);
     let mut world = cornell();
-    let camera = world.resource::<ActiveCamera>().0;
-    let start = *world.get::<Transform>(camera).unwrap();
     let s = settings(32, 1, true);
-    renderer.render(&mut world, &s).unwrap();
-    for frame in 1..60 {
-        let yaw = Quat::from_rotation_y((0.2 * frame as f32).to_radians());
-        world.get_mut::<Transform>(camera).unwrap().rotation = yaw * start.rotation;
-        renderer.accumulate(&mut world, &s, 1).unwrap();
-    }
+    common::pan(&mut renderer, &mut world, &s, 60, 0.2);
     let panned = renderer.read(&s).unwrap();
     let reference = reference(&mut world, 32, 256);
     let still = renderer

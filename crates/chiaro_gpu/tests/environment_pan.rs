@@ -14,7 +14,7 @@ use chiaro_gpu::{FrameSettings, RenderMode, RenderSettings, Renderer};
 use chiaro_scene::{
     ActiveCamera, Environment, EnvironmentSource, EquirectImage, Transform, load_scene,
 };
-use glam::{Quat, Vec3};
+use glam::Vec3;
 
 const SIZE: u32 = 48;
 
@@ -76,15 +76,8 @@ fn the_sky_stays_sharp_while_the_camera_turns() {
     let Some(gpu) = common::gpu() else { return };
     let mut renderer = Renderer::new(gpu);
     let mut world = world();
-    let camera = world.resource::<ActiveCamera>().0;
-    let start = world.get::<Transform>(camera).unwrap().rotation;
     let realtime = settings(RenderMode::Realtime, 1);
-    renderer.render(&mut world, &realtime).unwrap();
-    for frame in 1..48 {
-        let yaw = Quat::from_rotation_y((0.5 * frame as f32).to_radians());
-        world.get_mut::<Transform>(camera).unwrap().rotation = yaw * start;
-        renderer.accumulate(&mut world, &realtime, 1).unwrap();
-    }
+    common::pan(&mut renderer, &mut world, &realtime, 48, 0.5);
     let panned = renderer.read(&realtime).unwrap();
     let sky: Vec<bool> = renderer
         .read_gbuffer()

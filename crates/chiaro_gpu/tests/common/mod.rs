@@ -66,3 +66,25 @@ pub fn trusted_pixels(halves: [&[Vec3]; 2], image: &[Vec3], trimmed: f64) -> Vec
     let cut = sorted[((1.0 - trimmed) * sorted.len() as f64) as usize - 1];
     disagreement.iter().map(|d| *d <= cut).collect()
 }
+
+/// Renders the first frame of `world` with `settings`, then `frames - 1` more, turning the
+/// active camera about the world's vertical by `degrees` more each frame from where it started
+/// (a steady pan).
+#[allow(dead_code)]
+pub fn pan(
+    renderer: &mut chiaro_gpu::Renderer,
+    world: &mut bevy_ecs::world::World,
+    settings: &chiaro_gpu::RenderSettings,
+    frames: u32,
+    degrees: f32,
+) {
+    use chiaro_scene::{ActiveCamera, Transform};
+    let camera = world.resource::<ActiveCamera>().0;
+    let start = world.get::<Transform>(camera).unwrap().rotation;
+    renderer.render(world, settings).unwrap();
+    for frame in 1..frames {
+        let yaw = glam::Quat::from_rotation_y((degrees * frame as f32).to_radians());
+        world.get_mut::<Transform>(camera).unwrap().rotation = yaw * start;
+        renderer.accumulate(world, settings, 1).unwrap();
+    }
+}
