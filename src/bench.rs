@@ -39,7 +39,7 @@ pub struct BenchArgs {
     warmup: u32,
     /// These configurations, by name, instead of the default set (direct, realtime,
     /// realtime-no-denoise, realtime-spp2, realtime-spp4, realtime-bounces1,
-    /// realtime-bounces3, naive, reference); also known: direct-power, realtime-power,
+    /// realtime-bounces2, naive, reference); also known: direct-power, realtime-power,
     /// realtime-all-features.
     #[arg(long, value_delimiter = ',')]
     configs: Vec<String>,

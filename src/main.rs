@@ -188,7 +188,7 @@ struct FrameArgs {
     #[arg(long, default_value_t = 1)]
     spp: u32,
     /// Surfaces after the first at which a realtime path gathers light (1..=64).
-    #[arg(long, default_value_t = 2)]
+    #[arg(long, default_value_t = chiaro::gpu::settings::DEFAULT_BOUNCES)]
     bounces: u32,
     /// Turns the realtime mode's denoiser (temporal, variance, a-trous) off.
     #[arg(long)]

@@ -68,7 +68,7 @@ fn bench_writes_results_table_and_plot_and_caches_the_reference() {
             "realtime-spp2",
             "realtime-spp4",
             "realtime-bounces1",
-            "realtime-bounces3",
+            "realtime-bounces2",
             "naive",
             "reference",
             "realtime-path",

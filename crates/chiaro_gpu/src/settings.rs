@@ -16,6 +16,11 @@ pub const MAX_BOUNCES: u32 = 64;
 /// of them long before): 63 bounces after the surface the camera sees, the 64 scattering
 /// surfaces of the CPU reference's default depth.
 pub const REFERENCE_BOUNCES: u32 = 63;
+/// The realtime mode's default bounce cap. Against the cap of 2, on the Cornell box (a closed
+/// room) it more than halves the denoised frame's relMSE, for 5% more indirect-pass time; on
+/// open scenes relMSE moves by -2 to +6% and FLIP is lower on all five scenes measured
+/// (BENCHMARKS.md, "Indirect pass: time and the bias of the bounce cap").
+pub const DEFAULT_BOUNCES: u32 = 3;
 
 /// What each frame computes (one pipeline; the modes differ in which passes run).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -154,7 +159,7 @@ impl Default for FrameSettings {
         Self {
             mode: RenderMode::Realtime,
             spp: 1,
-            bounces: 2,
+            bounces: DEFAULT_BOUNCES,
             light_sampling: LightSampling::Tree,
             denoise: DenoiseSettings::default(),
             tonemapper: Tonemapper::PbrNeutral,
