@@ -20,9 +20,9 @@
 //! on every seed (seed 1: 2.91e-2 at 0.5 against 2.86e-2 off). The image is 7% darker than the
 //! reference without any clamp at either cap, so that is not the cap's bias; presumably the
 //! rare bright paths that a heavy-tailed estimate needs are mostly missing from 32 frames (not
-//! measured). Asserted: the mean relMSE over the seeds at 0.5
-//! and at 2 below the mean without the clamp; and, for each seed, the clamp only removes energy
-//! (each clamped mean at most the unclamped one).
+//! measured). Asserted: the mean relMSE over the seeds at 0.5 and at 2 below the mean without
+//! the clamp; and, for each seed, the clamp only removes energy (each clamped mean at most the
+//! unclamped one).
 
 mod common;
 mod hard_cases_common;

@@ -12,10 +12,11 @@
 //!     1.9e-1);
 //!   - the denoised realtime frame (32 frames) against that reference: relMSE 5.7e-2 and
 //!     3.9e-2 on the mirror (two seeds) against 2.3e-2 and 2.2e-2 on the floor (b = 2: 9.0e-2
-//!     and 5.2e-2 against 6.3e-2 and 7.3e-2); asserted: the mean of the two below 0.12. The a-trous filter leaves smooth metals alone
-//!     (`shaders/atrous.wgsl`); when it filtered them like any surface, with the mirror's own
-//!     smooth depth and normals, it blurred the reflected image: relMSE 2.0e-1 on the mirror,
-//!     while the frame's own noise there was 1.6e-2.
+//!     and 5.2e-2 against 6.3e-2 and 7.3e-2); asserted: the mean of the two below 0.12. The
+//!     a-trous filter leaves smooth metals alone (`shaders/atrous.wgsl`); when it filtered
+//!     them like any surface, with the mirror's own smooth depth and normals, it blurred the
+//!     reflected image: relMSE 2.0e-1 on the mirror, while the frame's own noise there was
+//!     1.6e-2.
 //! - A rough metal (base colour 1, roughness 1) in a white furnace loses only what
 //!   single-scattering GGX loses: a sphere of it alone under a constant environment of
 //!   radiance 1 (not `builtin:furnace`, whose emitting shell would darken near the sphere), so
