@@ -219,11 +219,9 @@ impl Renderer {
     pub fn attach(&self, world: &mut World) {
         let ours = world
             .get_resource::<GpuScene>()
-            .is_some_and(|scene| scene.context == self.context.id);
+            .is_some_and(|scene| scene.made_by(&self.context));
         if !ours {
-            let mut scene = GpuScene::new(&self.context.device, &self.context.queue);
-            scene.context = self.context.id;
-            world.insert_resource(scene);
+            world.insert_resource(GpuScene::new(&self.context));
         }
     }
 

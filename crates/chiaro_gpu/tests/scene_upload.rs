@@ -19,7 +19,7 @@ fn uploads_follow_changes_only() {
     let Some(gpu) = common::gpu() else { return };
     let mut world = World::new();
     load_scene(&mut world, "builtin:cornell").unwrap();
-    world.insert_resource(GpuScene::new(&gpu.device, &gpu.queue));
+    world.insert_resource(GpuScene::new(&gpu));
     let mut schedule = Schedule::default();
     add_gpu_scene_systems(&mut schedule);
 
@@ -98,7 +98,7 @@ fn light_and_environment_edits_rewrite_their_tables_only() {
     let Some(gpu) = common::gpu() else { return };
     let mut world = World::new();
     load_scene(&mut world, "builtin:many-lights?quads=4&lights=12").unwrap();
-    world.insert_resource(GpuScene::new(&gpu.device, &gpu.queue));
+    world.insert_resource(GpuScene::new(&gpu));
     let mut schedule = Schedule::default();
     add_gpu_scene_systems(&mut schedule);
     schedule.run(&mut world);

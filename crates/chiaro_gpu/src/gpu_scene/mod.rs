@@ -66,9 +66,8 @@ pub struct GpuScene {
     bind_group: Option<wgpu::BindGroup>,
     /// Bumped whenever the bind group is remade.
     pub generation: u64,
-    /// The [`crate::GpuContext::id`] of the device the buffers live on, 0 when not known
-    /// (set by [`crate::Renderer::attach`]).
-    pub context: u64,
+    /// The [`crate::GpuContext::id`] of the context whose device the buffers live on.
+    context: u64,
     blas_nodes: MirrorTexels<CwBvhNode>,
     triangles: MirrorTexels<BvhTriangle>,
     tlas_nodes: MirrorTexels<TlasNode>,
@@ -115,8 +114,9 @@ const TEXEL_BINDINGS: [u32; 4] = [0, 1, 2, 4];
 const BUFFER_BINDINGS: [u32; 14] = [3, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20];
 
 impl GpuScene {
-    /// Empty buffers on `device`; the first [`upload_gpu_scene`] fills them.
-    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Self {
+    /// Empty buffers on `context`'s device; the first [`upload_gpu_scene`] fills them.
+    pub fn new(context: &crate::GpuContext) -> Self {
+        let (device, queue) = (&context.device, &context.queue);
         let texel_array = wgpu::BindingType::Texture {
             sample_type: wgpu::TextureSampleType::Uint,
             view_dimension: wgpu::TextureViewDimension::D2,
@@ -148,7 +148,7 @@ impl GpuScene {
             layout,
             bind_group: None,
             generation: 0,
-            context: 0,
+            context: context.id,
             blas_nodes: MirrorTexels::new(d, "scene blas nodes"),
             triangles: MirrorTexels::new(d, "scene blas triangles"),
             tlas_nodes: MirrorTexels::new(d, "scene tlas nodes"),
@@ -199,6 +199,11 @@ impl GpuScene {
     /// The mesh table as uploaded.
     pub fn meshes(&self) -> &[GpuMesh] {
         self.meshes.contents()
+    }
+
+    /// Whether the buffers live on `context`'s device.
+    pub fn made_by(&self, context: &crate::GpuContext) -> bool {
+        self.context == context.id
     }
 
     /// The instances as uploaded.
