@@ -88,7 +88,7 @@ pub fn quantile(times: &[Duration], q: f64) -> Duration {
 pub fn measure(context: &GpuContext, n: usize, edits: usize) -> Result<EditCost, Error> {
     let mut world = World::new();
     load_scene(&mut world, &format!("builtin:instances?n={n}"))?;
-    world.insert_resource(GpuScene::new(&context));
+    world.insert_resource(GpuScene::new(context));
     let mut schedule = Schedule::default();
     add_gpu_scene_systems(&mut schedule);
     schedule.run(&mut world);
