@@ -1,12 +1,15 @@
-// The G-buffer: the scene rasterized with vertices pulled from the scene buffers, one
-// instanced draw per run of consecutive instances of one mesh (instance_index is the
-// instance's index in bvh_instances). Per pixel: world position, geometric and shading normals
-// (octahedral, Cigolle et al., "A Survey of Efficient Representations for Independent Unit
-// Vectors", JCGT 3(2), 2014), base colour, metallic, roughness, emission, instance id and the
-// motion vector; depth in the depth attachment. Alpha-masked texels are discarded. Surfaces
-// are shaded as chiaro_reference's surface_at: the front face is counter-clockwise (clockwise
-// under a mirroring transform), a back face of a single-sided material does not shade, normal
-// maps use the interpolated tangent frame.
+// The G-buffer: the scene rasterized in indexed draws over the raster lists
+// (chiaro_gpu::gpu_scene::raster: each triangle starts at a vertex of its own, which names the
+// triangle), vertex data pulled from the scene buffers, one instanced draw per run of
+// consecutive instances of one mesh (instance_index is the instance's index in bvh_instances).
+// Per pixel: world position, geometric and shading normals (octahedral, Cigolle et al., "A
+// Survey of Efficient Representations for Independent Unit Vectors", JCGT 3(2), 2014), base
+// colour, metallic, roughness, emission, instance id and the motion vector; depth in the depth
+// attachment. Alpha-masked texels are discarded. Surfaces are shaded as chiaro_reference's
+// surface_at: the front face is counter-clockwise (clockwise under a mirroring transform), a
+// back face of a single-sided material does not shade, normal maps use the interpolated
+// tangent frame. The geometric normal is the triangle's, made in the fragment stage from its
+// three world-space corners.
 
 #import lib/generated.wgsl
 #import lib/bvh_bindings.wgsl
@@ -19,15 +22,20 @@
 
 @group(1) @binding(0) var<storage, read> camera: GpuCamera;
 
+// chiaro_gpu::gpu_scene::RasterVertex: the scene vertex, and the triangle (in its mesh) that
+// starts at it; the draws' indices point here.
+@group(0) @binding(5) var<storage, read> raster_vertices: array<vec2<u32>>;
+
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) world: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) tangent: vec4<f32>,
     @location(3) uvs: vec4<f32>,
-    @location(4) @interpolate(flat) geometric: vec3<f32>,
-    @location(5) @interpolate(flat) instance: u32,
-    @location(6) previous_clip: vec4<f32>,
+    @location(4) @interpolate(flat) instance: u32,
+    @location(5) previous_clip: vec4<f32>,
+    // The triangle's index in its mesh (from its first vertex, the provoking one).
+    @location(6) @interpolate(flat) triangle: u32,
 }
 
 fn transform_point(m: array<vec4<f32>, 3>, p: vec3<f32>) -> vec3<f32> {
@@ -45,23 +53,13 @@ fn transform_normal(world_to_object: array<vec4<f32>, 3>, n: vec3<f32>) -> vec3<
     return world_to_object[0].xyz * n.x + world_to_object[1].xyz * n.y + world_to_object[2].xyz * n.z;
 }
 
+// `raster` indexes raster_vertices.
 @vertex
-fn vs_main(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32) -> VertexOut {
+fn vs_main(@builtin(vertex_index) raster: u32, @builtin(instance_index) instance: u32) -> VertexOut {
+    let vertex = raster_vertices[raster].x;
     let record = bvh_instances[instance];
-    let mesh = scene_meshes[record.mesh];
-    let corner = vertex % 3u;
-    let triangle_first = mesh.index_base + vertex - corner;
-    let i = vec3<u32>(scene_indices[triangle_first], scene_indices[triangle_first + 1u],
-        scene_indices[triangle_first + 2u]);
-    let v = scene_vertices[scene_indices[mesh.index_base + vertex]];
+    let v = scene_vertices[vertex];
     let m = record.object_to_world;
-    let p0 = transform_point(m, scene_vertices[i.x].position);
-    let p1 = transform_point(m, scene_vertices[i.y].position);
-    let p2 = transform_point(m, scene_vertices[i.z].position);
-    var front = cross(p1 - p0, p2 - p0);
-    if scene_instance_extras[instance].mirrored != 0u {
-        front = -front;
-    }
     let world = transform_point(m, v.position);
     let previous = transform_point(scene_instance_extras[instance].previous_object_to_world, v.position);
     var out: VertexOut;
@@ -70,10 +68,23 @@ fn vs_main(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance
     out.normal = transform_normal(record.world_to_object, v.normal);
     out.tangent = vec4<f32>(transform_vector(m, v.tangent.xyz), v.tangent.w);
     out.uvs = vec4<f32>(v.u0, v.v0, v.uv1);
-    out.geometric = front;
     out.instance = instance;
     out.previous_clip = camera.previous_view_proj * vec4<f32>(previous, 1.0);
+    out.triangle = raster_vertices[raster].y;
     return out;
+}
+
+// The front side of triangle `triangle` of `instance`'s mesh in world space (not unit): the
+// cross product of its world-space edges, reversed under a mirroring transform.
+fn triangle_front(instance: u32, triangle: u32) -> vec3<f32> {
+    let record = bvh_instances[instance];
+    let first = scene_meshes[record.mesh].index_base + 3u * triangle;
+    let m = record.object_to_world;
+    let p0 = transform_point(m, scene_vertices[scene_indices[first]].position);
+    let p1 = transform_point(m, scene_vertices[scene_indices[first + 1u]].position);
+    let p2 = transform_point(m, scene_vertices[scene_indices[first + 2u]].position);
+    let front = cross(p1 - p0, p2 - p0);
+    return select(front, -front, scene_instance_extras[instance].mirrored != 0u);
 }
 
 struct GbufferOut {
@@ -96,7 +107,7 @@ fn fs_main(in: VertexOut) -> GbufferOut {
     }
     let view = in.world - camera.origin;
     let incoming = select(view, camera.forward, camera.orthographic != 0u);
-    let geometric_front = safe_normalize(in.geometric, vec3<f32>(0.0, 0.0, 1.0));
+    let geometric_front = safe_normalize(triangle_front(in.instance, in.triangle), vec3<f32>(0.0, 0.0, 1.0));
     let mirrored = scene_instance_extras[in.instance].mirrored != 0u;
     let shading_front = mapped_shading_normal(material, mesh_flags, in.uvs, in.normal, in.tangent,
         mirrored, geometric_front);

@@ -1,5 +1,6 @@
-// The BVH part of the scene bind group, group(0) bindings 0..4 (5..7 are reserved for it):
-// chiaro_bvh::GpuBvhBuffers field for field. The traversal's records are texel arrays
+// The BVH part of the scene bind group, group(0) bindings 0..4: chiaro_bvh::GpuBvhBuffers field
+// for field (binding 5 is the G-buffer's raster vertices, in gbuffer.wgsl; 6 and 7 are
+// reserved). The traversal's records are texel arrays
 // (chiaro_gpu::gpu_scene::texel_mirror: rgba32uint textures, record i is texels
 // i * (record size / 16) onwards in row-major order, 2^TEXEL_ROW_BITS texels to a row), read
 // with bvh_load_*: a texel fetch gathers 16 bytes per lane, where lavapipe loads a storage

@@ -119,8 +119,23 @@ pub struct GbufferImage {
     pub position: Vec<Vec3>,
     /// The instance drawn per pixel, `None` where nothing was.
     pub instance: Vec<Option<u32>>,
+    /// The geometric normal per pixel (unit; its triangle's, turned to the camera's side where
+    /// the material is double-sided).
+    pub geometric_normal: Vec<Vec3>,
     /// Pixels from the current to the previous frame's position of what the pixel shows.
     pub motion: Vec<Vec2>,
+}
+
+/// The unit vector of an octahedral normal in two 16-bit snorms (x low), as
+/// `lib/gbuffer_packing.wgsl` decodes it.
+fn octahedral_decode(packed: u32) -> Vec3 {
+    let snorm = |bits: u32| (f32::from(bits as u16 as i16) / 32767.0).max(-1.0);
+    let f = Vec2::new(snorm(packed), snorm(packed >> 16));
+    let mut n = Vec3::new(f.x, f.y, 1.0 - f.x.abs() - f.y.abs());
+    let t = (-n.z).clamp(0.0, 1.0);
+    n.x += if n.x >= 0.0 { -t } else { t };
+    n.y += if n.y >= 0.0 { -t } else { t };
+    n.normalize()
 }
 
 /// Renders worlds on one GPU context.
@@ -343,6 +358,8 @@ impl Renderer {
         let motion = floats(&t.motion.texture, 8)?;
         let emission: Vec<u32> =
             bytemuck::pod_collect_to_vec(&read_texture(device, queue, &t.emission.texture, 16)?);
+        let surface: Vec<u32> =
+            bytemuck::pod_collect_to_vec(&read_texture(device, queue, &t.surface.texture, 16)?);
         Ok(GbufferImage {
             position: position
                 .chunks_exact(4)
@@ -351,6 +368,10 @@ impl Renderer {
             instance: emission
                 .chunks_exact(4)
                 .map(|e| (e[3] & 0x7fff_ffff).checked_sub(1))
+                .collect(),
+            geometric_normal: surface
+                .chunks_exact(4)
+                .map(|s| octahedral_decode(s[0]))
                 .collect(),
             motion: motion
                 .chunks_exact(2)

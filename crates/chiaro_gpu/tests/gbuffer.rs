@@ -1,14 +1,19 @@
 //! The G-buffer's motion vectors: after one instance moves, the pixels showing it point back to
 //! where its surface was in the previous frame (projected on the CPU), and the pixels of the
 //! static rest point nowhere; after the camera moves, every pixel's vector is the camera's
-//! reprojection. And the renderer's bad input (no camera, a zero or oversized image, a read
+//! reprojection. Its geometric normals: each pixel's is the face normal of the triangle its
+//! position lies on. And the renderer's bad input (no camera, a zero or oversized image, a read
 //! before any render) gives an error naming the fault.
 
 mod common;
 
+use std::collections::HashMap;
+
 use bevy_ecs::prelude::*;
 use chiaro_gpu::{FrameSettings, RenderMode, RenderSettings, Renderer};
-use chiaro_scene::{ActiveCamera, Materials, MeshInstance, Transform, load_scene};
+use chiaro_scene::{
+    ActiveCamera, GlobalTransform, Materials, MeshInstance, Meshes, Transform, load_scene,
+};
 use glam::{Mat4, Vec2, Vec3};
 
 /// Pixel coordinates of world point `p` under `view_proj` in a `size` image.
@@ -120,6 +125,88 @@ fn motion_vectors_follow_instances_and_the_camera() {
         "only {checked} pixels covered after the turn"
     );
     eprintln!("{checked} pixels checked after the turn");
+}
+
+/// Whether `p` lies on triangle `t`, within `tolerance` of its plane and of its edges.
+fn lies_on(t: &[Vec3; 3], p: Vec3, tolerance: f32) -> bool {
+    let (e1, e2, d) = (t[1] - t[0], t[2] - t[0], p - t[0]);
+    let n = e1.cross(e2);
+    if (d.dot(n) / n.length()).abs() > tolerance {
+        return false;
+    }
+    // Barycentrics of p's projection, each scaled to a distance from its edge.
+    let area = n.length_squared();
+    let b1 = d.cross(e2).dot(n) / area;
+    let b2 = e1.cross(d).dot(n) / area;
+    let heights = [e1.length(), e2.length(), (t[2] - t[1]).length()].map(|l| n.length() / l);
+    let distances = [
+        (1.0 - b1 - b2) * heights[2],
+        b1 * heights[1],
+        b2 * heights[0],
+    ];
+    distances.iter().all(|&h| h >= -tolerance)
+}
+
+#[test]
+fn geometric_normals_are_the_faces_seen() {
+    // Icosphere instances (80 faces each; neighbouring faces differ by about 20 degrees) over a
+    // ground plane, each triangle reaching the fragment stage with its own index
+    // (chiaro_gpu::gpu_scene::raster) and its normal made there.
+    let Some(gpu) = common::gpu() else { return };
+    let size = 48;
+    let mut world = World::new();
+    load_scene(&mut world, "builtin:instances?n=16").unwrap();
+    let mut renderer = Renderer::new(gpu);
+    let settings = RenderSettings {
+        width: size,
+        height: size,
+        frames: 1,
+        frame: FrameSettings {
+            mode: RenderMode::Direct,
+            ..FrameSettings::default()
+        },
+        ..RenderSettings::default()
+    };
+    renderer.render(&mut world, &settings).unwrap();
+    let g = renderer.read_gbuffer().unwrap();
+    // Every instance's world-space triangles, by its index in the BVH.
+    let mut triangles: HashMap<u32, Vec<[Vec3; 3]>> = HashMap::new();
+    let mut query = world.query::<(Entity, &MeshInstance, &GlobalTransform)>();
+    let (bvh, meshes) = (
+        world.resource::<chiaro_bvh::SceneBvh>(),
+        world.resource::<Meshes>(),
+    );
+    for (entity, instance, global) in query.iter(&world) {
+        let mesh = meshes.get(instance.mesh).unwrap();
+        let p = mesh.positions();
+        let corners = |t: &[u32]| [0, 1, 2].map(|k| global.0.transform_point3(p[t[k] as usize]));
+        let index = bvh.instance_of(entity).unwrap();
+        triangles.insert(index, mesh.indices().chunks_exact(3).map(corners).collect());
+    }
+    let mut inside = 0;
+    for (i, instance) in g.instance.iter().enumerate() {
+        let Some(instance) = instance else { continue };
+        let (point, normal) = (g.position[i], g.geometric_normal[i]);
+        // The faces the point lies on: one, or two or more on an edge or a corner.
+        let faces: Vec<Vec3> = triangles[instance]
+            .iter()
+            .filter(|t| lies_on(t, point, 1e-4))
+            .map(|t| (t[1] - t[0]).cross(t[2] - t[0]).normalize())
+            .collect();
+        assert!(
+            !faces.is_empty(),
+            "pixel {i}: {point} on no triangle of instance {instance}"
+        );
+        assert!(
+            faces.iter().any(|f| f.dot(normal).abs() > 0.9999),
+            "pixel {i}: geometric normal {normal}, but {point} lies on faces {faces:?}"
+        );
+        inside += usize::from(faces.len() == 1);
+    }
+    assert!(
+        inside > (size * size / 4) as usize,
+        "{inside} pixels inside one face"
+    );
 }
 
 #[test]

@@ -13,6 +13,7 @@
 //! | 2 | TLAS nodes (texels) | `chiaro_bvh::TlasNode` |
 //! | 3 | instances | `chiaro_bvh::GpuInstance` |
 //! | 4 | instances (texels, for the traversal) | `chiaro_bvh::GpuInstance` |
+//! | 5 | raster vertices (the G-buffer's vertex stage only) | [`RasterVertex`] |
 //! | 8 | vertices | [`GpuVertex`] |
 //! | 9 | indices | `u32`, global vertex indices |
 //! | 10 | meshes | [`GpuMesh`] |
@@ -43,6 +44,7 @@ mod gather;
 pub mod layout;
 pub mod light_trees;
 mod mirror;
+pub mod raster;
 pub mod texel_mirror;
 
 use bevy_ecs::prelude::*;
@@ -55,6 +57,7 @@ pub use layout::{
 };
 use light_trees::FlatTree;
 pub use mirror::{MirrorBuffer, UploadStats};
+pub use raster::RasterVertex;
 pub use texel_mirror::{MirrorTexels, TexelOverflow};
 
 /// The scene's GPU buffers (a resource of the world).
@@ -75,6 +78,8 @@ pub struct GpuScene {
     instance_texels: MirrorTexels<GpuInstance>,
     vertices: MirrorBuffer<GpuVertex>,
     indices: MirrorBuffer<u32>,
+    raster_vertices: MirrorBuffer<RasterVertex>,
+    raster_indices: MirrorBuffer<u32>,
     meshes: MirrorBuffer<GpuMesh>,
     materials: MirrorBuffer<GpuMaterial>,
     texels: MirrorBuffer<u32>,
@@ -110,6 +115,10 @@ const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE;
 /// The bindings of group(0) that are texel arrays (`Rgba32Uint` textures), in order.
 const TEXEL_BINDINGS: [u32; 4] = [0, 1, 2, 4];
 
+/// The binding of the raster vertices ([`raster`]), read by the G-buffer's vertex stage only
+/// (so it does not count against the compute passes' storage buffers).
+const RASTER_VERTICES_BINDING: u32 = 5;
+
 /// The bindings of group(0) that are read-only storage buffers, in order.
 const BUFFER_BINDINGS: [u32; 14] = [3, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20];
 
@@ -136,6 +145,12 @@ impl GpuScene {
                 ty,
                 count: None,
             })
+            .chain([wgpu::BindGroupLayoutEntry {
+                binding: RASTER_VERTICES_BINDING,
+                visibility: wgpu::ShaderStages::VERTEX,
+                ty: crate::passes::storage(true),
+                count: None,
+            }])
             .collect();
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("scene bind group layout"),
@@ -156,6 +171,8 @@ impl GpuScene {
             instance_texels: MirrorTexels::new(d, "scene instance texels"),
             vertices: MirrorBuffer::new(d, "scene vertices", STORAGE),
             indices: MirrorBuffer::new(d, "scene indices", STORAGE),
+            raster_vertices: MirrorBuffer::new(d, "raster vertices", STORAGE),
+            raster_indices: MirrorBuffer::new(d, "raster indices", wgpu::BufferUsages::INDEX),
             meshes: MirrorBuffer::new(d, "scene meshes", STORAGE),
             materials: MirrorBuffer::new(d, "scene materials", STORAGE),
             texels: MirrorBuffer::new(d, "scene texels", STORAGE),
@@ -209,6 +226,12 @@ impl GpuScene {
     /// The instances as uploaded.
     pub fn instances(&self) -> &[GpuInstance] {
         self.instances.contents()
+    }
+
+    /// The G-buffer's index buffer ([`raster`]; mesh `m`'s triangles from
+    /// `meshes()[m].index_base`).
+    pub fn raster_indices(&self) -> &wgpu::Buffer {
+        self.raster_indices.buffer()
     }
 
     /// The runs of consecutive instances of one mesh, as (mesh, instance range): the G-buffer
@@ -270,7 +293,11 @@ impl GpuScene {
                 binding,
                 resource: buffer.as_entire_binding(),
             });
-        let entries: Vec<_> = texels.chain(buffers).collect();
+        let raster = wgpu::BindGroupEntry {
+            binding: RASTER_VERTICES_BINDING,
+            resource: self.raster_vertices.buffer().as_entire_binding(),
+        };
+        let entries: Vec<_> = texels.chain(buffers).chain([raster]).collect();
         let group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("scene bind group"),
             layout: &self.layout,
@@ -349,8 +376,12 @@ pub fn upload_gpu_scene(
     let meshes_changed = fresh || meshes.as_ref().is_some_and(|m| m.is_changed());
     if meshes_changed {
         let (vertices, indices, table) = gather::meshes(meshes_ref);
+        let (raster_vertices, raster_indices) =
+            raster::raster_lists(&indices, vertices.len(), &table);
         put!(scene, stats, realloc, vertices, &vertices);
         put!(scene, stats, realloc, indices, &indices);
+        put!(scene, stats, realloc, raster_vertices, &raster_vertices);
+        put!(scene, stats, realloc, raster_indices, &raster_indices);
         put!(scene, stats, realloc, meshes, &table);
     }
     let materials_changed = fresh || materials.as_ref().is_some_and(|m| m.is_changed());

@@ -1,9 +1,10 @@
-//! `gbuffer`: rasterizes every instance (vertices pulled from the scene buffers, one instanced
-//! draw per run of consecutive instances of one mesh) into the G-buffer targets: position, normals, base colour, metallic, roughness,
-//! emission, instance id and motion vectors, plus depth (reversed: the near plane at 1,
-//! infinitely far at 0; see [`crate::camera`]). No face is
-//! culled: a back face of a single-sided material is drawn and marked as not shading, as the
-//! CPU reference treats it.
+//! `gbuffer`: rasterizes every instance (one indexed, instanced draw per run of consecutive
+//! instances of one mesh, over the raster lists of [`crate::gpu_scene::raster`]; vertex data
+//! pulled from the scene buffers) into the G-buffer targets: position, normals, base colour,
+//! metallic, roughness, emission, instance id and motion vectors, plus depth (reversed: the
+//! near plane at 1, infinitely far at 0; see [`crate::camera`]). No face is culled: a back face
+//! of a single-sided material is drawn and marked as not shading, as the CPU reference treats
+//! it.
 
 use crate::gpu_scene::GpuScene;
 use crate::shaders::ShaderError;
@@ -107,10 +108,12 @@ impl GbufferPass {
         pass.set_pipeline(pipeline);
         pass.set_bind_group(0, scene_group, &[]);
         pass.set_bind_group(1, camera, &[]);
+        pass.set_index_buffer(scene.raster_indices().slice(..), wgpu::IndexFormat::Uint32);
         let meshes = scene.meshes();
         for (mesh, instances) in scene.mesh_runs() {
             if let Some(mesh) = meshes.get(*mesh as usize) {
-                pass.draw(0..3 * mesh.triangle_count, instances.clone());
+                let first = mesh.index_base;
+                pass.draw_indexed(first..first + 3 * mesh.triangle_count, 0, instances.clone());
             }
         }
     }
