@@ -1,5 +1,6 @@
 //! Writes the table of every WGSL file under the workspace's `shaders/` directory, each
-//! embedded with `include_str!`, for `src/shaders.rs`.
+//! embedded with `include_str!` by its path from the crate's manifest directory, for
+//! `src/shaders.rs`.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -37,7 +38,13 @@ fn main() {
             println!("cargo::rerun-if-changed={}", dir.display());
         }
         println!("cargo::rerun-if-changed={}", path.display());
-        writeln!(table, "    ({name:?}, include_str!({:?})),", path.display()).unwrap();
+        // The path from the compiling crate's own manifest, not this run's absolute one: a
+        // target directory shared by two checkouts may keep this table from the other one.
+        writeln!(
+            table,
+            "    ({name:?}, include_str!(concat!(env!(\"CARGO_MANIFEST_DIR\"), \"/../../shaders/{name}\"))),"
+        )
+        .unwrap();
     }
     table.push(']');
     let out = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets it"));
