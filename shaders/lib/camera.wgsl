@@ -12,7 +12,7 @@ struct GpuCamera {
     up: vec3<f32>,
     height: f32,
     forward: vec3<f32>,
-    pad0: f32,
+    near: f32,
     jitter: vec2<f32>,
     pad1: vec2<f32>,
 }

@@ -3,6 +3,7 @@
 //! from exactly as the CPU reference does (pinhole or orthographic, glTF conventions, a point
 //! of the pixel chosen by the jitter: a box filter over the pixel once frames accumulate).
 
+use crate::gpu_scene::back_faces::CullView;
 use bevy_ecs::prelude::*;
 use bytemuck::{Pod, Zeroable};
 use chiaro_scene::{ActiveCamera, Camera, GlobalTransform, Projection};
@@ -39,8 +40,8 @@ pub struct GpuCamera {
     pub height: f32,
     /// Camera forward axis (world, unit).
     pub forward: [f32; 3],
-    /// Padding.
-    pub pad0: f32,
+    /// Distance of the near plane from the eye (the rasterizer clips nearer points).
+    pub near: f32,
     /// The sub-pixel point of this frame, in [0, 1)^2 (x right, y down).
     pub jitter: [f32; 2],
     /// Padding.
@@ -109,12 +110,12 @@ impl GpuCamera {
             Vec4::new(right_axis.z, up_axis.z, back.z, 0.0),
             Vec4::new(-right_axis.dot(eye), -up_axis.dot(eye), -back.dot(eye), 1.0),
         );
-        let (projection, right, up, orthographic) = match camera.projection {
+        let (projection, right, up, orthographic, near) = match camera.projection {
             Projection::Perspective { yfov, znear, .. } => {
                 let half = (0.5 * yfov).tan();
                 let znear = znear.max(1e-6);
                 let p = perspective(half, aspect, znear);
-                (p, right_axis * half * aspect, up_axis * half, 0)
+                (p, right_axis * half * aspect, up_axis * half, 0, znear)
             }
             Projection::Orthographic {
                 xmag,
@@ -123,7 +124,7 @@ impl GpuCamera {
                 zfar,
             } => {
                 let p = orthographic(xmag, ymag, znear, zfar);
-                (p, right_axis * xmag, up_axis * ymag, 1)
+                (p, right_axis * xmag, up_axis * ymag, 1, znear)
             }
         };
         // The rasterizer samples pixel centres: shift the image so that the centre of pixel x
@@ -146,10 +147,23 @@ impl GpuCamera {
             up: up.to_array(),
             height: height as f32,
             forward: forward.to_array(),
-            pad0: 0.0,
+            near,
             jitter: jitter.to_array(),
             pad1: [0.0; 2],
         }
+    }
+
+    /// The camera as the G-buffer's back-face test sees it; `None` for an orthographic one.
+    pub fn cull_view(&self) -> Option<CullView> {
+        if self.orthographic != 0 {
+            return None;
+        }
+        // The near plane's corners are the farthest of its points from the eye.
+        let corner = Vec3::from(self.right).length_squared() + Vec3::from(self.up).length_squared();
+        Some(CullView {
+            eye: self.origin.into(),
+            near_reach: self.near * (1.0 + corner).sqrt(),
+        })
     }
 
     /// The unjittered view-projection (next frame's `previous`).

@@ -18,6 +18,7 @@ use crate::camera::GpuCamera;
 use crate::context::GpuContext;
 use crate::denoiser::Denoiser;
 use crate::gpu_scene::GpuScene;
+use crate::gpu_scene::back_faces::CullView;
 use crate::passes::composite::{
     COMPOSITE_DIRECT, COMPOSITE_FILTERED, COMPOSITE_PATHS, COMPOSITE_RESET, COMPOSITE_RESOLVE,
     CompositeParams, CompositePass,
@@ -359,11 +360,13 @@ impl Frame {
         self.denoised = denoised;
     }
 
-    /// Records `pass`, timed as the `index`th of the frame.
+    /// Records `pass`, timed as the `index`th of the frame, for the camera `view` (the
+    /// G-buffer's back-face test).
     fn record(
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
         scene: &GpuScene,
+        view: Option<CullView>,
         pass: Pass,
         index: u32,
     ) {
@@ -374,6 +377,7 @@ impl Frame {
                 encoder,
                 scene,
                 &self.camera_group,
+                view,
                 t,
                 timer.render(index),
             ),
@@ -432,7 +436,7 @@ impl Frame {
             if !gpu {
                 self.timer.start_wall();
             }
-            self.record(&mut encoder, scene, pass, index as u32);
+            self.record(&mut encoder, scene, camera.cull_view(), pass, index as u32);
             if !gpu {
                 queue.submit([std::mem::replace(&mut encoder, new_encoder(device)).finish()]);
                 wall.push(self.timer.stop_wall(device));

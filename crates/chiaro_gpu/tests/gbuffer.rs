@@ -210,6 +210,50 @@ fn geometric_normals_are_the_faces_seen() {
 }
 
 #[test]
+fn a_camera_inside_a_closed_mesh_sees_its_inside() {
+    // The icosphere is closed and faces outward, so seen from outside its back faces are culled
+    // (chiaro_gpu::gpu_scene::back_faces); from its centre they are all there is to see.
+    let Some(gpu) = common::gpu() else { return };
+    let size = 32;
+    let mut world = World::new();
+    load_scene(&mut world, "builtin:instances?n=1").unwrap();
+    let mut renderer = Renderer::new(gpu);
+    let settings = RenderSettings {
+        width: size,
+        height: size,
+        frames: 1,
+        frame: FrameSettings {
+            mode: RenderMode::Direct,
+            ..FrameSettings::default()
+        },
+        ..RenderSettings::default()
+    };
+    // A first frame places everything in the world.
+    renderer.render(&mut world, &settings).unwrap();
+    let mut query = world.query::<(Entity, &MeshInstance, &GlobalTransform)>();
+    let meshes = world.resource::<Meshes>();
+    let (sphere, centre) = query
+        .iter(&world)
+        .find(|(_, instance, _)| meshes.get(instance.mesh).unwrap().indices().len() == 3 * 80)
+        .map(|(entity, _, global)| (entity, Vec3::from(global.0.translation)))
+        .unwrap();
+    let camera = world.resource::<ActiveCamera>().0;
+    world.get_mut::<Transform>(camera).unwrap().translation = centre;
+    renderer.render(&mut world, &settings).unwrap();
+    let g = renderer.read_gbuffer().unwrap();
+    let index = world
+        .resource::<chiaro_bvh::SceneBvh>()
+        .instance_of(sphere)
+        .unwrap();
+    let inside = g.instance.iter().filter(|i| **i == Some(index)).count();
+    assert_eq!(
+        inside,
+        g.instance.len(),
+        "pixels seeing the sphere from its centre"
+    );
+}
+
+#[test]
 fn bad_input_is_an_error_not_a_panic() {
     let Some(gpu) = common::gpu() else { return };
     let mut renderer = Renderer::new(gpu);

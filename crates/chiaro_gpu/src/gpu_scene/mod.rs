@@ -40,6 +40,7 @@
 //! [`MirrorBuffer`] then writes only the element ranges that differ from what the GPU holds,
 //! so moving one instance writes that instance's record and the TLAS nodes that moved.
 
+pub mod back_faces;
 mod gather;
 pub mod layout;
 pub mod light_trees;
@@ -80,6 +81,7 @@ pub struct GpuScene {
     indices: MirrorBuffer<u32>,
     raster_vertices: MirrorBuffer<RasterVertex>,
     raster_indices: MirrorBuffer<u32>,
+    closed_bounds: Vec<Option<back_faces::ClosedBounds>>,
     meshes: MirrorBuffer<GpuMesh>,
     materials: MirrorBuffer<GpuMaterial>,
     texels: MirrorBuffer<u32>,
@@ -173,6 +175,7 @@ impl GpuScene {
             indices: MirrorBuffer::new(d, "scene indices", STORAGE),
             raster_vertices: MirrorBuffer::new(d, "raster vertices", STORAGE),
             raster_indices: MirrorBuffer::new(d, "raster indices", wgpu::BufferUsages::INDEX),
+            closed_bounds: Vec::new(),
             meshes: MirrorBuffer::new(d, "scene meshes", STORAGE),
             materials: MirrorBuffer::new(d, "scene materials", STORAGE),
             texels: MirrorBuffer::new(d, "scene texels", STORAGE),
@@ -232,6 +235,11 @@ impl GpuScene {
     /// `meshes()[m].index_base`).
     pub fn raster_indices(&self) -> &wgpu::Buffer {
         self.raster_indices.buffer()
+    }
+
+    /// Per mesh, its bounds when it is closed and faces outward ([`back_faces`]), else `None`.
+    pub fn closed_bounds(&self) -> &[Option<back_faces::ClosedBounds>] {
+        &self.closed_bounds
     }
 
     /// The runs of consecutive instances of one mesh, as (mesh, instance range): the G-buffer
@@ -383,6 +391,10 @@ pub fn upload_gpu_scene(
         put!(scene, stats, realloc, raster_vertices, &raster_vertices);
         put!(scene, stats, realloc, raster_indices, &raster_indices);
         put!(scene, stats, realloc, meshes, &table);
+        scene.closed_bounds = meshes_ref
+            .iter()
+            .map(|(_, mesh)| back_faces::closed_bounds(mesh.positions(), mesh.indices()))
+            .collect();
     }
     let materials_changed = fresh || materials.as_ref().is_some_and(|m| m.is_changed());
     if materials_changed {

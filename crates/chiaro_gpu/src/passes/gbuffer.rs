@@ -2,19 +2,24 @@
 //! instances of one mesh, over the raster lists of [`crate::gpu_scene::raster`]; vertex data
 //! pulled from the scene buffers) into the G-buffer targets: position, normals, base colour,
 //! metallic, roughness, emission, instance id and motion vectors, plus depth (reversed: the
-//! near plane at 1, infinitely far at 0; see [`crate::camera`]). No face is culled: a back face
-//! of a single-sided material is drawn and marked as not shading, as the CPU reference treats
-//! it.
+//! near plane at 1, infinitely far at 0; see [`crate::camera`]). A back face of a single-sided
+//! material is drawn and marked as not shading, as the CPU reference treats it, except in the
+//! instances whose back faces cannot be seen ([`crate::gpu_scene::back_faces`]), which are
+//! drawn with a pipeline that culls them.
+
+use std::ops::Range;
 
 use crate::gpu_scene::GpuScene;
+use crate::gpu_scene::back_faces::{CullView, front_faces_suffice};
+use crate::gpu_scene::layout::{GpuMesh, MATERIAL_ALPHA_MASK};
 use crate::shaders::ShaderError;
 use crate::specialization::{PipelineFeatures, SpecializedPipelines};
 use crate::targets::{self, FrameTargets};
 
-/// The G-buffer pass, with one pipeline per feature set ([`crate::specialization`]).
+/// The G-buffer pass, with one pair of pipelines per feature set ([`crate::specialization`]).
 pub struct GbufferPass {
-    /// The pass's pipelines, one per feature set.
-    pub pipelines: SpecializedPipelines<wgpu::RenderPipeline>,
+    /// The pass's pipelines, one pair per feature set.
+    pub pipelines: SpecializedPipelines<GbufferPipelines>,
     camera_layout: wgpu::BindGroupLayout,
 }
 
@@ -38,7 +43,7 @@ impl GbufferPass {
             immediate_size: 0,
         });
         Ok(Self {
-            pipelines: SpecializedPipelines::new(module, pipeline_layout, build_pipeline),
+            pipelines: SpecializedPipelines::new(module, pipeline_layout, build_pipelines),
             camera_layout,
         })
     }
@@ -59,12 +64,14 @@ impl GbufferPass {
         })
     }
 
-    /// Records the pass.
+    /// Records the pass; `view` is the camera for the back-face test (`None`: draw every back
+    /// face).
     pub fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         scene: &GpuScene,
         camera: &wgpu::BindGroup,
+        view: Option<CullView>,
         targets: &FrameTargets,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
@@ -102,29 +109,89 @@ impl GbufferPass {
         let Some(scene_group) = scene.bind_group() else {
             return;
         };
-        let Some(pipeline) = self.pipelines.pipeline() else {
+        let Some(pipelines) = self.pipelines.pipeline() else {
             return;
         };
-        pass.set_pipeline(pipeline);
         pass.set_bind_group(0, scene_group, &[]);
         pass.set_bind_group(1, camera, &[]);
         pass.set_index_buffer(scene.raster_indices().slice(..), wgpu::IndexFormat::Uint32);
-        let meshes = scene.meshes();
-        for (mesh, instances) in scene.mesh_runs() {
-            if let Some(mesh) = meshes.get(*mesh as usize) {
-                let first = mesh.index_base;
-                pass.draw_indexed(first..first + 3 * mesh.triangle_count, 0, instances.clone());
+        let mut culling = None;
+        for (mesh, instances, front_only) in draws(scene, view) {
+            if culling != Some(front_only) {
+                culling = Some(front_only);
+                pass.set_pipeline(if front_only {
+                    &pipelines.front_faces
+                } else {
+                    &pipelines.both_faces
+                });
             }
+            let first = mesh.index_base;
+            pass.draw_indexed(first..first + 3 * mesh.triangle_count, 0, instances);
         }
     }
 }
 
-/// The G-buffer's render pipeline compiled for `features`.
+/// The G-buffer's draws: each run of consecutive instances of one mesh, split where the back-face
+/// test's answer changes, as (mesh, instances, whether back faces are culled).
+fn draws(scene: &GpuScene, view: Option<CullView>) -> Vec<(GpuMesh, Range<u32>, bool)> {
+    let (meshes, instances) = (scene.meshes(), scene.instances());
+    let (materials, closed) = (scene.materials(), scene.closed_bounds());
+    let mut draws: Vec<(GpuMesh, Range<u32>, bool)> = Vec::new();
+    for (m, run) in scene.mesh_runs() {
+        let Some(mesh) = meshes.get(*m as usize) else {
+            continue;
+        };
+        for i in run.clone() {
+            let front_only = instances.get(i as usize).is_some_and(|instance| {
+                let alpha_masked = materials
+                    .get(instance.material as usize)
+                    .is_none_or(|material| material.flags & MATERIAL_ALPHA_MASK != 0);
+                front_faces_suffice(
+                    closed.get(*m as usize).copied().flatten(),
+                    &instance.object_to_world,
+                    alpha_masked,
+                    view,
+                )
+            });
+            match draws.last_mut() {
+                Some((_, range, f)) if range.end == i && *f == front_only && i != run.start => {
+                    range.end = i + 1;
+                }
+                _ => draws.push((*mesh, i..i + 1, front_only)),
+            }
+        }
+    }
+    draws
+}
+
+/// The G-buffer's pipelines for one feature set: drawing every face, and culling back faces.
+pub struct GbufferPipelines {
+    /// No face culled.
+    pub both_faces: wgpu::RenderPipeline,
+    /// Back faces (clockwise) culled.
+    pub front_faces: wgpu::RenderPipeline,
+}
+
+/// The G-buffer's pipelines compiled for `features`.
+fn build_pipelines(
+    device: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    layout: &wgpu::PipelineLayout,
+    features: PipelineFeatures,
+) -> GbufferPipelines {
+    GbufferPipelines {
+        both_faces: build_pipeline(device, module, layout, features, None),
+        front_faces: build_pipeline(device, module, layout, features, Some(wgpu::Face::Back)),
+    }
+}
+
+/// The G-buffer's render pipeline compiled for `features`, culling `cull_mode`.
 fn build_pipeline(
     device: &wgpu::Device,
     module: &wgpu::ShaderModule,
     layout: &wgpu::PipelineLayout,
     features: PipelineFeatures,
+    cull_mode: Option<wgpu::Face>,
 ) -> wgpu::RenderPipeline {
     let constants = features.constants();
     let options = || wgpu::PipelineCompilationOptions {
@@ -148,7 +215,7 @@ fn build_pipeline(
             buffers: &[],
         },
         primitive: wgpu::PrimitiveState {
-            cull_mode: None,
+            cull_mode,
             ..Default::default()
         },
         depth_stencil: Some(wgpu::DepthStencilState {
