@@ -25,6 +25,20 @@ fn pixel(view_proj: Mat4, p: Vec3, size: f32) -> Vec2 {
     )
 }
 
+/// `frames` frames of the direct mode at `size` x `size` (the G-buffer is all these tests read).
+fn direct(size: u32, frames: u32) -> RenderSettings {
+    RenderSettings {
+        width: size,
+        height: size,
+        frames,
+        frame: FrameSettings {
+            mode: RenderMode::Direct,
+            ..FrameSettings::default()
+        },
+        ..RenderSettings::default()
+    }
+}
+
 #[test]
 fn motion_vectors_follow_instances_and_the_camera() {
     let Some(gpu) = common::gpu() else { return };
@@ -32,16 +46,7 @@ fn motion_vectors_follow_instances_and_the_camera() {
     let mut world = World::new();
     load_scene(&mut world, "builtin:cornell").unwrap();
     let mut renderer = Renderer::new(gpu);
-    let settings = RenderSettings {
-        width: size,
-        height: size,
-        frames: 2,
-        frame: FrameSettings {
-            mode: RenderMode::Direct,
-            ..FrameSettings::default()
-        },
-        ..RenderSettings::default()
-    };
+    let settings = direct(size, 2);
     renderer.render(&mut world, &settings).unwrap();
     let still = renderer.read_gbuffer().unwrap();
     let covered = still.instance.iter().filter(|i| i.is_some()).count();
@@ -157,16 +162,7 @@ fn geometric_normals_are_the_faces_seen() {
     let mut world = World::new();
     load_scene(&mut world, "builtin:instances?n=16").unwrap();
     let mut renderer = Renderer::new(gpu);
-    let settings = RenderSettings {
-        width: size,
-        height: size,
-        frames: 1,
-        frame: FrameSettings {
-            mode: RenderMode::Direct,
-            ..FrameSettings::default()
-        },
-        ..RenderSettings::default()
-    };
+    let settings = direct(size, 1);
     renderer.render(&mut world, &settings).unwrap();
     let g = renderer.read_gbuffer().unwrap();
     // Every instance's world-space triangles, by its index in the BVH.
@@ -218,16 +214,7 @@ fn a_camera_inside_a_closed_mesh_sees_its_inside() {
     let mut world = World::new();
     load_scene(&mut world, "builtin:instances?n=1").unwrap();
     let mut renderer = Renderer::new(gpu);
-    let settings = RenderSettings {
-        width: size,
-        height: size,
-        frames: 1,
-        frame: FrameSettings {
-            mode: RenderMode::Direct,
-            ..FrameSettings::default()
-        },
-        ..RenderSettings::default()
-    };
+    let settings = direct(size, 1);
     // A first frame places everything in the world.
     renderer.render(&mut world, &settings).unwrap();
     let mut query = world.query::<(Entity, &MeshInstance, &GlobalTransform)>();

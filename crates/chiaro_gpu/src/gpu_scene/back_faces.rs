@@ -107,18 +107,16 @@ pub struct CullView {
     pub near_reach: f32,
 }
 
-/// Whether an instance with object-to-world rows `object_to_world` (3x4, translation in w) of a
-/// mesh with `bounds` may be drawn without back faces from `view`; `alpha_masked` is its
-/// material's alpha mode.
-pub fn front_faces_suffice(
+/// The world bounds of an instance that may drop its back faces whatever the camera, with
+/// object-to-world rows `object_to_world` (3x4, translation in w), of a mesh with `bounds`
+/// (`None`: not closed and outward), whose material is `alpha_masked` or not; `None` where the
+/// instance must keep them. Made when the scene changes; [`eye_outside`] decides per frame.
+pub fn cullable_box(
     bounds: Option<ClosedBounds>,
     object_to_world: &[[f32; 4]; 3],
     alpha_masked: bool,
-    view: Option<CullView>,
-) -> bool {
-    let (Some(bounds), Some(view)) = (bounds, view) else {
-        return false;
-    };
+) -> Option<ClosedBounds> {
+    let bounds = bounds?;
     let row = |r: usize| {
         Vec3::new(
             object_to_world[r][0],
@@ -130,7 +128,7 @@ pub fn front_faces_suffice(
     let determinant = r0.dot(r1.cross(r2));
     // A mirroring (or degenerate, or NaN) transform turns the front faces round.
     if alpha_masked || determinant.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-        return false;
+        return None;
     }
     // World bounds of the eight corners.
     let translation = Vec3::new(
@@ -147,10 +145,21 @@ pub fn front_faces_suffice(
         lo = lo.min(w);
         hi = hi.max(w);
     }
-    if !(lo.is_finite() && hi.is_finite() && view.eye.is_finite() && view.near_reach.is_finite()) {
+    (lo.is_finite() && hi.is_finite()).then_some(ClosedBounds { min: lo, max: hi })
+}
+
+/// Whether `view` (`None`: an orthographic camera) sees the instance with world bounds
+/// `world` ([`cullable_box`]) from outside, its near plane included, so that it may be drawn
+/// without back faces.
+pub fn eye_outside(world: ClosedBounds, view: Option<CullView>) -> bool {
+    let Some(view) = view else {
+        return false;
+    };
+    if !(view.eye.is_finite() && view.near_reach.is_finite()) {
         return false;
     }
     // Distance from the eye to the box, against the near plane's reach with a relative margin.
+    let (lo, hi) = (world.min, world.max);
     let outside = (lo - view.eye).max(view.eye - hi).max(Vec3::ZERO);
     let margin = 1e-3 * (hi - lo).length().max(view.eye.abs().max_element());
     outside.length() > view.near_reach + margin
@@ -178,6 +187,16 @@ mod tests {
             .flat_map(|q| [q[0], q[1], q[2], q[0], q[2], q[3]])
             .collect();
         (p, i)
+    }
+
+    /// Both halves of the test, as the G-buffer applies them.
+    fn front_faces_suffice(
+        bounds: Option<ClosedBounds>,
+        object_to_world: &[[f32; 4]; 3],
+        alpha_masked: bool,
+        view: Option<CullView>,
+    ) -> bool {
+        cullable_box(bounds, object_to_world, alpha_masked).is_some_and(|b| eye_outside(b, view))
     }
 
     const IDENTITY: [[f32; 4]; 3] = [

@@ -82,6 +82,7 @@ pub struct GpuScene {
     raster_vertices: MirrorBuffer<RasterVertex>,
     raster_indices: MirrorBuffer<u32>,
     closed_bounds: Vec<Option<back_faces::ClosedBounds>>,
+    cullable_boxes: Vec<Option<back_faces::ClosedBounds>>,
     meshes: MirrorBuffer<GpuMesh>,
     materials: MirrorBuffer<GpuMaterial>,
     texels: MirrorBuffer<u32>,
@@ -176,6 +177,7 @@ impl GpuScene {
             raster_vertices: MirrorBuffer::new(d, "raster vertices", STORAGE),
             raster_indices: MirrorBuffer::new(d, "raster indices", wgpu::BufferUsages::INDEX),
             closed_bounds: Vec::new(),
+            cullable_boxes: Vec::new(),
             meshes: MirrorBuffer::new(d, "scene meshes", STORAGE),
             materials: MirrorBuffer::new(d, "scene materials", STORAGE),
             texels: MirrorBuffer::new(d, "scene texels", STORAGE),
@@ -237,9 +239,10 @@ impl GpuScene {
         self.raster_indices.buffer()
     }
 
-    /// Per mesh, its bounds when it is closed and faces outward ([`back_faces`]), else `None`.
-    pub fn closed_bounds(&self) -> &[Option<back_faces::ClosedBounds>] {
-        &self.closed_bounds
+    /// Per instance, its world bounds when it may drop its back faces wherever the camera is
+    /// outside them ([`back_faces::cullable_box`]), else `None`.
+    pub fn cullable_boxes(&self) -> &[Option<back_faces::ClosedBounds>] {
+        &self.cullable_boxes
     }
 
     /// The runs of consecutive instances of one mesh, as (mesh, instance range): the G-buffer
@@ -405,6 +408,21 @@ pub fn upload_gpu_scene(
             materials,
             &gather::materials(materials_ref)
         );
+    }
+    if bvh_changed || meshes_changed || materials_changed {
+        let materials = scene.materials.contents();
+        let boxes = scene.instances.contents().iter().map(|instance| {
+            let alpha_masked = materials
+                .get(instance.material as usize)
+                .is_none_or(|material| material.flags & layout::MATERIAL_ALPHA_MASK != 0);
+            let bounds = scene
+                .closed_bounds
+                .get(instance.mesh as usize)
+                .copied()
+                .flatten();
+            back_faces::cullable_box(bounds, &instance.object_to_world, alpha_masked)
+        });
+        scene.cullable_boxes = boxes.collect();
     }
     let textures_changed = fresh || textures.as_ref().is_some_and(|t| t.is_changed());
     if textures_changed {

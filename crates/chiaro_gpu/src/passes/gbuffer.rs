@@ -10,8 +10,8 @@
 use std::ops::Range;
 
 use crate::gpu_scene::GpuScene;
-use crate::gpu_scene::back_faces::{CullView, front_faces_suffice};
-use crate::gpu_scene::layout::{GpuMesh, MATERIAL_ALPHA_MASK};
+use crate::gpu_scene::back_faces::{CullView, eye_outside};
+use crate::gpu_scene::layout::GpuMesh;
 use crate::shaders::ShaderError;
 use crate::specialization::{PipelineFeatures, SpecializedPipelines};
 use crate::targets::{self, FrameTargets};
@@ -134,25 +134,18 @@ impl GbufferPass {
 /// The G-buffer's draws: each run of consecutive instances of one mesh, split where the back-face
 /// test's answer changes, as (mesh, instances, whether back faces are culled).
 fn draws(scene: &GpuScene, view: Option<CullView>) -> Vec<(GpuMesh, Range<u32>, bool)> {
-    let (meshes, instances) = (scene.meshes(), scene.instances());
-    let (materials, closed) = (scene.materials(), scene.closed_bounds());
+    let (meshes, boxes) = (scene.meshes(), scene.cullable_boxes());
     let mut draws: Vec<(GpuMesh, Range<u32>, bool)> = Vec::new();
     for (m, run) in scene.mesh_runs() {
         let Some(mesh) = meshes.get(*m as usize) else {
             continue;
         };
         for i in run.clone() {
-            let front_only = instances.get(i as usize).is_some_and(|instance| {
-                let alpha_masked = materials
-                    .get(instance.material as usize)
-                    .is_none_or(|material| material.flags & MATERIAL_ALPHA_MASK != 0);
-                front_faces_suffice(
-                    closed.get(*m as usize).copied().flatten(),
-                    &instance.object_to_world,
-                    alpha_masked,
-                    view,
-                )
-            });
+            let front_only = boxes
+                .get(i as usize)
+                .copied()
+                .flatten()
+                .is_some_and(|b| eye_outside(b, view));
             match draws.last_mut() {
                 Some((_, range, f)) if range.end == i && *f == front_only && i != run.start => {
                     range.end = i + 1;
