@@ -17,6 +17,18 @@
 // which decides whether a candidate hit counts (false: a hole, e.g. an alpha mask); both
 // queries call it for candidates only, the closest-hit query only for candidates nearer than
 // the best accepted so far.
+//
+// Shape of the loops: lavapipe runs 8 invocations as the lanes of one SIMD vector and runs every
+// `if` block whatever the lanes decide (masked: its stores and loads skip the lanes that do not
+// take it; Mesa's gallivm has no branches for them), and every loop until all its lanes are
+// done. So a loop costs its whole body per iteration, and a loop nested in an `if` runs at
+// least once per iteration of the loop around it. The traversal is laid out for that: the TLAS
+// descent (one loop, visit or pop per iteration) ends at the next instance, then that instance's
+// BLAS is traversed, then the descent goes on. With the BLAS loop nested in the TLAS loop's leaf
+// branch, every TLAS step also paid a BLAS step and a triangle test: measured with
+// chiaro_gpu's traversal_bench on lavapipe, this layout traces 1.3x to 1.9x more rays per
+// second. A hardware GPU skips a block that no lane of a subgroup takes; the layout has not been
+// measured on one.
 
 #import lib/generated.wgsl
 #import lib/float.wgsl
@@ -26,8 +38,8 @@
 // Hit::instance of a miss.
 const BVH_NO_HIT: u32 = 0xffffffffu;
 
-// The traversal stacks: TLAS entries (node, entry distance bits) and BLAS entries (node or
-// triangle base, hit mask), BVH_STACK_SIZE each (chiaro_bvh's bound). WGSL zero-fills every
+// The traversal stacks: TLAS entries (a node's child word, entry distance bits) and BLAS
+// entries (node or triangle base, hit mask), BVH_STACK_SIZE each (chiaro_bvh's bound). WGSL zero-fills every
 // variable where it is declared; at module scope that happens once per invocation, however
 // many rays the invocation traces (declared per BLAS visit, it cost 3x on lavapipe).
 var<private> bvh_tlas_stack: array<vec2<u32>, BVH_STACK_SIZE>;
@@ -279,7 +291,8 @@ fn bvh_trace_instance(
     return false;
 }
 
-// The TLAS traversal of chiaro_bvh::tlas::Tlas::traverse, visiting instances nearest box first.
+// The TLAS traversal of chiaro_bvh::tlas::Tlas::traverse, visiting instances nearest box first:
+// the same instances in the same order, so the same hits.
 fn bvh_trace(ray: Ray, t_max_in: f32, any_hit: bool) -> Hit {
     var best: Hit;
     best.t = t_max_in;
@@ -301,53 +314,61 @@ fn bvh_trace(ray: Ray, t_max_in: f32, any_hit: bool) -> Hit {
         return best;
     }
     var top = 0u;
-    var index = 0u;
+    // The `child` word of the TLAS node to visit next (its first child, or its instance with
+    // TLAS_LEAF_BIT), known from its parent's pair of records, so a visit loads only the
+    // node's two children; `visit` false: pop one off the stack first.
+    var next = root.child;
+    var visit = true;
     loop {
-        let node = bvh_load_tlas_node(index);
-        bvh_steps += 1u;
-        if (node.child & TLAS_LEAF_BIT) != 0u {
-            let instance = node.child & ~TLAS_LEAF_BIT;
-            if instance < arrayLength(&bvh_instances) && bvh_trace_instance(ray, instance, &t_max, &best, any_hit) {
-                return best;
-            }
-        } else {
-            let first = node.child;
-            let left = bvh_load_tlas_node(first);
-            let right = bvh_load_tlas_node(first + 1u);
-            let t_left = bvh_box_entry(box_ray, left.min, left.max, left.kappa * unit_pad, t_min, t_max);
-            let t_right = bvh_box_entry(box_ray, right.min, right.max, right.kappa * unit_pad, t_min, t_max);
-            let hit_left = f32_is_finite(t_left);
-            let hit_right = f32_is_finite(t_right);
-            if hit_left && hit_right {
-                if t_left <= t_right {
-                    bvh_tlas_stack[top] = vec2<u32>(first + 1u, bitcast<u32>(t_right));
-                    index = first;
-                } else {
-                    bvh_tlas_stack[top] = vec2<u32>(first, bitcast<u32>(t_left));
-                    index = first + 1u;
+        // Down the TLAS to the next instance whose box the ray enters.
+        var instance = BVH_NO_HIT;
+        loop {
+            if visit {
+                if (next & TLAS_LEAF_BIT) != 0u {
+                    instance = next & ~TLAS_LEAF_BIT;
+                    visit = false;
+                    break;
                 }
-                top += 1u;
-                continue;
-            }
-            if hit_left {
-                index = first;
-                continue;
-            }
-            if hit_right {
-                index = first + 1u;
-                continue;
+                let left = bvh_load_tlas_node(next);
+                let right = bvh_load_tlas_node(next + 1u);
+                bvh_steps += 1u;
+                let t_left = bvh_box_entry(box_ray, left.min, left.max, left.kappa * unit_pad, t_min, t_max);
+                let t_right = bvh_box_entry(box_ray, right.min, right.max, right.kappa * unit_pad, t_min, t_max);
+                let hit_left = f32_is_finite(t_left);
+                let hit_right = f32_is_finite(t_right);
+                if hit_left && hit_right {
+                    if t_left <= t_right {
+                        bvh_tlas_stack[top] = vec2<u32>(right.child, bitcast<u32>(t_right));
+                        next = left.child;
+                    } else {
+                        bvh_tlas_stack[top] = vec2<u32>(left.child, bitcast<u32>(t_left));
+                        next = right.child;
+                    }
+                    top += 1u;
+                } else if hit_left {
+                    next = left.child;
+                } else if hit_right {
+                    next = right.child;
+                } else {
+                    visit = false;
+                }
+            } else {
+                // Pop the nearest pending node that can still hold a nearer hit.
+                if top == 0u {
+                    break;
+                }
+                top -= 1u;
+                if bitcast<f32>(bvh_tlas_stack[top].y) < t_max {
+                    next = bvh_tlas_stack[top].x;
+                    visit = true;
+                }
             }
         }
-        // Pop the nearest pending node that can still hold a nearer hit.
-        loop {
-            if top == 0u {
-                return best;
-            }
-            top -= 1u;
-            if bitcast<f32>(bvh_tlas_stack[top].y) < t_max {
-                index = bvh_tlas_stack[top].x;
-                break;
-            }
+        if instance == BVH_NO_HIT {
+            return best;
+        }
+        if instance < arrayLength(&bvh_instances) && bvh_trace_instance(ray, instance, &t_max, &best, any_hit) {
+            return best;
         }
     }
     return best;
