@@ -132,40 +132,41 @@ fn punctual_lights_all_evaluated() -> bool {
 
 // Every punctual light when there are few, else one picked (over its probability): by power,
 // or a directional light by power with their share and else a point or spot light by the tree.
+// Either way one loop casts the shadow rays (lib/bvh.wgsl says why lavapipe wants each trace
+// in one place).
 fn punctual_light(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
     let count = scene_info.light_count;
     let any_kind = FEATURE_POINT_LIGHTS || FEATURE_SPOT_LIGHTS || FEATURE_DIRECTIONAL_LIGHTS;
-    var total = vec3<f32>(0.0);
-    if punctual_lights_all_evaluated() {
-        if any_kind {
-            for (var i = 0u; i < count; i++) {
-                total += light_contribution(s, sample_punctual(scene_lights[i], s.position)).xyz;
-            }
+    // The lights [first, first + n) are evaluated, their sum divided by pmf.
+    var first = 0u;
+    var n = count;
+    var pmf = 1.0;
+    if !punctual_lights_all_evaluated() {
+        // Drawn whatever the features, so that the random numbers after it stay the same.
+        let u = pcg32_next_f32(rng);
+        let share = scene_info.directional_share;
+        if !light_tree_sampling() || scene_info.punctual_tree == NO_INDEX {
+            first = light_table_pick(u, count, TABLE_PUNCTUAL);
+            pmf = scene_lights[first].pmf;
+        } else if u < share {
+            first = light_table_pick(min(u / share, ONE_MINUS_EPSILON), count, TABLE_DIRECTIONAL);
+            pmf = scene_lights[first].pmf;
+        } else {
+            let u_tree = clamp((u - share) / (1.0 - share), 0.0, ONE_MINUS_EPSILON);
+            let pick = light_tree_pick(scene_info.punctual_tree, s.position, s.frame.normal, u_tree);
+            first = pick.light;
+            pmf = (1.0 - share) * pick.pmf;
         }
-        return total;
+        n = 1u;
     }
-    // Drawn whatever the features, so that the random numbers after it stay the same.
-    let u = pcg32_next_f32(rng);
+    var total = vec3<f32>(0.0);
     if !any_kind {
         return total;
     }
-    let share = scene_info.directional_share;
-    var index: u32;
-    var pmf: f32;
-    if !light_tree_sampling() || scene_info.punctual_tree == NO_INDEX {
-        index = light_table_pick(u, count, TABLE_PUNCTUAL);
-        pmf = scene_lights[index].pmf;
-    } else if u < share {
-        index = light_table_pick(min(u / share, ONE_MINUS_EPSILON), count, TABLE_DIRECTIONAL);
-        pmf = scene_lights[index].pmf;
-    } else {
-        let u_tree = clamp((u - share) / (1.0 - share), 0.0, ONE_MINUS_EPSILON);
-        let pick = light_tree_pick(scene_info.punctual_tree, s.position, s.frame.normal, u_tree);
-        index = pick.light;
-        pmf = (1.0 - share) * pick.pmf;
+    for (var i = 0u; i < n; i++) {
+        total += light_contribution(s, sample_punctual(scene_lights[first + i], s.position)).xyz;
     }
-    let light = scene_lights[index];
-    return light_contribution(s, sample_punctual(light, s.position)).xyz / pmf;
+    return total / pmf;
 }
 
 // One sample of the area-light table, weighted against BRDF sampling: the entry picked by
