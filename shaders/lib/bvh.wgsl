@@ -39,14 +39,15 @@
 const BVH_NO_HIT: u32 = 0xffffffffu;
 
 // The traversal stacks: TLAS entries (a node's child word, entry distance bits) and BLAS
-// entries (node or triangle base, hit mask), BVH_STACK_SIZE each (chiaro_bvh's bound). WGSL zero-fills every
-// variable where it is declared; at module scope that happens once per invocation, however
-// many rays the invocation traces (declared per BLAS visit, it cost 3x on lavapipe).
+// entries (node or triangle base, hit mask), BVH_STACK_SIZE each (chiaro_bvh's bound). WGSL
+// zero-fills every variable where it is declared; at module scope that happens once per
+// invocation, however many rays the invocation traces (declared per BLAS visit, it cost 3x on
+// lavapipe).
 var<private> bvh_tlas_stack: array<vec2<u32>, BVH_STACK_SIZE>;
 var<private> bvh_blas_stack: array<vec2<u32>, BVH_STACK_SIZE>;
 
-// Traversal steps of this invocation's rays so far: one per TLAS node visited, BLAS node
-// visited and triangle tested (the viewer's traversal heatmap resets it, traces a ray and
+// Traversal steps of this invocation's rays so far: one per TLAS node whose two children are
+// tested, BLAS node visited and triangle tested (the viewer's traversal heatmap resets it, traces a ray and
 // reads it). A shader that never reads it pays nothing: its increments are stores to a private
 // variable nobody loads, which the driver's compiler removes.
 var<private> bvh_steps: u32;

@@ -1,9 +1,9 @@
-// The viewer's traversal heatmap: per pixel, the BVH traversal steps (TLAS nodes visited, BLAS
-// nodes visited, triangles tested: lib/bvh.wgsl's bvh_steps) of the closest-hit query along the
-// camera ray through the frame's jittered sample of that pixel, shown through the viridis colour
-// map (van der Walt and Smith, matplotlib 1.5, 2015: lightness rises monotonically from dark
-// blue to yellow) from 0 steps to params.max_steps (and above). The map's stops arrive in the
-// parameters as 8-bit sRGB over 255 and are written as they are.
+// The viewer's traversal heatmap: per pixel, the BVH traversal steps (TLAS nodes whose children
+// are tested, BLAS nodes visited, triangles tested: lib/bvh.wgsl's bvh_steps) of the closest-hit
+// query along the camera ray through the frame's jittered sample of that pixel, shown through
+// the viridis colour map (van der Walt and Smith, matplotlib 1.5, 2015: lightness rises
+// monotonically from dark blue to yellow) from 0 steps to params.max_steps (and above). The
+// map's stops arrive in the parameters as 8-bit sRGB over 255 and are written as they are.
 
 #import lib/generated.wgsl
 #import lib/bvh.wgsl
