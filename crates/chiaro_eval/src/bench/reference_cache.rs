@@ -36,26 +36,28 @@ struct Sidecar {
     seconds: f64,
 }
 
-/// FNV-1a over `text`: a hash that stays the same across builds and platforms.
-fn fnv1a(text: &str) -> u64 {
-    text.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
-        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+/// FNV-1a over `bytes`: a hash that stays the same across builds and platforms.
+fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+        (h ^ u64::from(*b)).wrapping_mul(0x0100_0000_01b3)
     })
 }
 
-/// A file as the cache knows it: its path, size and modification time.
+/// A file as the cache knows it: its path, size and a hash of its bytes. A copy or a fresh
+/// checkout of the same file (a new modification time) keeps its cached reference; an edit
+/// renders it again. A file that cannot be read is named as such (loading it fails anyway).
 fn file_stamp(path: &Path) -> String {
-    let meta = fs::metadata(path).ok();
-    let size = meta.as_ref().map(|m| m.len());
-    let modified = meta.and_then(|m| m.modified().ok());
-    format!("{} {size:?} {modified:?}", path.display())
+    match fs::read(path) {
+        Ok(bytes) => format!("{} {} {:016x}", path.display(), bytes.len(), fnv1a(&bytes)),
+        Err(e) => format!("{} unreadable: {e}", path.display()),
+    }
 }
 
-/// What decides the reference's pixels: the scene (its name; its file's size and modification
-/// time when it is a file; and `held`, the summary of what the loaded scene holds: meshes,
+/// What decides the reference's pixels: the scene (its name; its file's size and content hash
+/// when it is a file; and `held`, the summary of what the loaded scene holds: meshes,
 /// triangles, materials, lights, camera, bounds, environment, so that a scene that changed
 /// under the same name, a built-in one included, is rendered again), its environment file (by
-/// path, size and modification time), the image size, the sample count, the seed, the path
+/// path, size and content hash), the image size, the sample count, the seed, the path
 /// settings, the chiaro version.
 fn cache_key(scene: &BenchScene, held: &SceneInfo, width: u32, height: u32, spp: u32) -> String {
     let file = (!scene.scene.starts_with("builtin:")).then(|| file_stamp(Path::new(&scene.scene)));
@@ -70,7 +72,7 @@ fn cache_key(scene: &BenchScene, held: &SceneInfo, width: u32, height: u32, spp:
 
 /// The cached reference's path in `cache_dir`.
 fn cache_path(cache_dir: &Path, key: &str) -> PathBuf {
-    cache_dir.join(format!("reference-{:016x}.exr", fnv1a(key)))
+    cache_dir.join(format!("reference-{:016x}.exr", fnv1a(key.as_bytes())))
 }
 
 /// The converged reference of `scene` (loaded in `world`) at `width` x `height` with `spp`
@@ -152,8 +154,36 @@ mod tests {
 
     #[test]
     fn fnv1a_matches_its_published_test_vectors() {
-        assert_eq!(fnv1a(""), 0xcbf2_9ce4_8422_2325);
-        assert_eq!(fnv1a("a"), 0xaf63_dc4c_8601_ec8c);
-        assert_eq!(fnv1a("foobar"), 0x8594_4171_f739_67e8);
+        assert_eq!(fnv1a(b""), 0xcbf2_9ce4_8422_2325);
+        assert_eq!(fnv1a(b"a"), 0xaf63_dc4c_8601_ec8c);
+        assert_eq!(fnv1a(b"foobar"), 0x8594_4171_f739_67e8);
+    }
+
+    #[test]
+    fn a_scene_file_is_known_by_its_bytes_not_its_time() {
+        let dir = std::env::temp_dir().join(format!("chiaro-cache-key-{}", std::process::id()));
+        fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("scene.glb");
+        let scene = BenchScene {
+            scene: file.display().to_string(),
+            env: None,
+        };
+        let held = SceneInfo::gather(&mut BenchScene::builtin("builtin:cornell").load().unwrap());
+        fs::write(&file, b"glTF one").unwrap();
+        let base = cache_key(&scene, &held, 64, 64, 16);
+        // The same bytes written again, with a modification time a day older.
+        fs::write(&file, b"glTF one").unwrap();
+        let day_ago = std::time::SystemTime::now() - std::time::Duration::from_secs(86_400);
+        fs::File::options()
+            .write(true)
+            .open(&file)
+            .unwrap()
+            .set_modified(day_ago)
+            .unwrap();
+        assert_eq!(base, cache_key(&scene, &held, 64, 64, 16));
+        // Other bytes of the same size.
+        fs::write(&file, b"glTF two").unwrap();
+        assert_ne!(base, cache_key(&scene, &held, 64, 64, 16));
+        fs::remove_dir_all(&dir).unwrap();
     }
 }
