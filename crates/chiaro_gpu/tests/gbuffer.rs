@@ -10,7 +10,7 @@ mod common;
 use std::collections::HashMap;
 
 use bevy_ecs::prelude::*;
-use chiaro_gpu::{FrameSettings, RenderMode, RenderSettings, Renderer};
+use chiaro_gpu::{FrameSettings, GpuContext, RenderMode, RenderSettings, Renderer};
 use chiaro_scene::{
     ActiveCamera, GlobalTransform, Materials, MeshInstance, Meshes, Transform, load_scene,
 };
@@ -25,9 +25,18 @@ fn pixel(view_proj: Mat4, p: Vec3, size: f32) -> Vec2 {
     )
 }
 
-/// `frames` frames of the direct mode at `size` x `size` (the G-buffer is all these tests read).
-fn direct(size: u32, frames: u32) -> RenderSettings {
-    RenderSettings {
+/// `scene` loaded and rendered for `frames` frames of the direct mode at `size` x `size` (the
+/// G-buffer is all these tests read): the world, the renderer and the settings, for more frames.
+fn rendered(
+    gpu: GpuContext,
+    scene: &str,
+    size: u32,
+    frames: u32,
+) -> (World, Renderer, RenderSettings) {
+    let mut world = World::new();
+    load_scene(&mut world, scene).unwrap();
+    let mut renderer = Renderer::new(gpu);
+    let settings = RenderSettings {
         width: size,
         height: size,
         frames,
@@ -36,18 +45,16 @@ fn direct(size: u32, frames: u32) -> RenderSettings {
             ..FrameSettings::default()
         },
         ..RenderSettings::default()
-    }
+    };
+    renderer.render(&mut world, &settings).unwrap();
+    (world, renderer, settings)
 }
 
 #[test]
 fn motion_vectors_follow_instances_and_the_camera() {
     let Some(gpu) = common::gpu() else { return };
     let size = 32;
-    let mut world = World::new();
-    load_scene(&mut world, "builtin:cornell").unwrap();
-    let mut renderer = Renderer::new(gpu);
-    let settings = direct(size, 2);
-    renderer.render(&mut world, &settings).unwrap();
+    let (mut world, mut renderer, settings) = rendered(gpu, "builtin:cornell", size, 2);
     let still = renderer.read_gbuffer().unwrap();
     let covered = still.instance.iter().filter(|i| i.is_some()).count();
     assert!(covered > 900, "{covered} pixels covered");
@@ -159,11 +166,7 @@ fn geometric_normals_are_the_faces_seen() {
     // (chiaro_gpu::gpu_scene::raster) and its normal made there.
     let Some(gpu) = common::gpu() else { return };
     let size = 48;
-    let mut world = World::new();
-    load_scene(&mut world, "builtin:instances?n=16").unwrap();
-    let mut renderer = Renderer::new(gpu);
-    let settings = direct(size, 1);
-    renderer.render(&mut world, &settings).unwrap();
+    let (mut world, renderer, _) = rendered(gpu, "builtin:instances?n=16", size, 1);
     let g = renderer.read_gbuffer().unwrap();
     // Every instance's world-space triangles, by its index in the BVH.
     let mut triangles: HashMap<u32, Vec<[Vec3; 3]>> = HashMap::new();
@@ -211,12 +214,8 @@ fn a_camera_inside_a_closed_mesh_sees_its_inside() {
     // (chiaro_gpu::gpu_scene::back_faces); from its centre they are all there is to see.
     let Some(gpu) = common::gpu() else { return };
     let size = 32;
-    let mut world = World::new();
-    load_scene(&mut world, "builtin:instances?n=1").unwrap();
-    let mut renderer = Renderer::new(gpu);
-    let settings = direct(size, 1);
     // A first frame places everything in the world.
-    renderer.render(&mut world, &settings).unwrap();
+    let (mut world, mut renderer, settings) = rendered(gpu, "builtin:instances?n=1", size, 1);
     let mut query = world.query::<(Entity, &MeshInstance, &GlobalTransform)>();
     let meshes = world.resource::<Meshes>();
     let (sphere, centre) = query
