@@ -78,7 +78,9 @@ pub struct DenoiseSettings {
     /// faster response, more noise.
     pub temporal_floor: f32,
     /// A-trous iterations (steps 1, 2, 4, ...). More: a wider, smoother filter and more blur
-    /// of small detail; fewer: more noise left.
+    /// of small detail; fewer: more noise left. The default is 4: with the 3 x 3 kernel a
+    /// fifth iteration (step 16) took a sixth of the pass's time and lowered no bench scene's
+    /// error (BENCHMARKS.md, "The a-trous kernel").
     pub atrous_iterations: u32,
     /// Depth edge-stopping (sigma_z of SVGF, in units of the depth gradient). Higher: blurs
     /// across depth edges; lower: stops at smaller depth changes, keeping more noise on
@@ -99,7 +101,7 @@ impl Default for DenoiseSettings {
         Self {
             enabled: true,
             temporal_floor: 0.05,
-            atrous_iterations: 5,
+            atrous_iterations: 4,
             sigma_depth: 1.0,
             sigma_normal: 128.0,
             sigma_luminance: 2.0,
