@@ -79,8 +79,8 @@ pub struct DenoiseSettings {
     pub temporal_floor: f32,
     /// A-trous iterations (steps 1, 2, 4, ...). More: a wider, smoother filter and more blur
     /// of small detail; fewer: more noise left. The default is 4: with the 3 x 3 kernel a
-    /// fifth iteration (step 16) took a sixth of the pass's time and lowered no bench scene's
-    /// error (BENCHMARKS.md, "The a-trous kernel").
+    /// fifth iteration (step 16) added 18% to the pass's time and lowered no bench scene's
+    /// error by more than 1% (BENCHMARKS.md, "Denoiser: the a-trous kernel").
     pub atrous_iterations: u32,
     /// Depth edge-stopping (sigma_z of SVGF, in units of the depth gradient). Higher: blurs
     /// across depth edges; lower: stops at smaller depth changes, keeping more noise on
