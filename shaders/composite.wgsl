@@ -128,8 +128,8 @@ const RESOLVE_MOVING_FROM: f32 = 0.1;
 const RESOLVE_CLIP_SIGMAS: f32 = 1.0;
 
 // Least weight of this frame in the resolve under motion (still: the denoiser's temporal
-// floor, 0.05 by default). Every moving frame resamples the history between pixels; a shorter
-// memory blurs a thin shadow less.
+// floor, 0.05 by default, falling while nothing changes: chiaro_gpu::still_view). Every moving
+// frame resamples the history between pixels; a shorter memory blurs a thin shadow less.
 const RESOLVE_MOVING_FLOOR: f32 = 0.3;
 
 // Luminance ratio from which the history of another surface is left out under motion.

@@ -13,8 +13,9 @@
 //   tangent plane (plane distance: slope-aware, a slanted surface's texels pass however much
 //   their depth differs). The accepted texels are blended bilinearly, renormalized; where
 //   none is, the accepted texels of the 3 x 3 around the point, equally (as SVGF).
-// - Moving average: weight max(1 / history length, temporal_floor) for the new frame; the
-//   history length restarts at 1 where no texel is accepted (disocclusion) or on reset.
+// - Moving average: weight max(1 / history length, temporal_floor) for the new frame (the floor
+//   falls frame by frame on a still view: chiaro_gpu::still_view); the history length
+//   restarts at 1 where no texel is accepted (disocclusion) or on reset.
 // - Non-finite guard: a sample with a NaN or an infinity (found by exponent bits: WGSL has no
 //   isNan) is replaced by the history, or by 0 where there is none, so it never enters history.
 //   No firefly clamp.

@@ -42,10 +42,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if m_p.z >= DENOISE_SHORT_HISTORY {
         // The moments give the variance of one frame's sample, but the colour filtered is the
         // moving average, whose variance is smaller by its effective sample count: 1 / n for
-        // the plain mean of n frames (weights 1 / n), a / (2 - a) for an exponential average
-        // of weight a in its steady state; the larger of the two in between.
-        let a = params.temporal_floor;
-        let v = max(m_p.y - m_p.x * m_p.x, 0.0) * max(1.0 / m_p.z, a / (2.0 - a));
+        // the plain mean of n frames (weights 1 / n); for a long history, a / (2 - a) for an
+        // exponential average of weight a in its steady state, less on a still view
+        // (chiaro_gpu::still_view); the larger of the two in between.
+        let v = max(m_p.y - m_p.x * m_p.x, 0.0) * max(1.0 / m_p.z, params.history_variance);
         textureStore(filtered_out, p, vec4<f32>(c_p, v));
         return;
     }

@@ -8,7 +8,7 @@
 // chiaro_gpu::denoiser::DenoiseParams: one copy per a-trous iteration (the temporal and
 // variance passes read the first).
 struct DenoiseParams {
-    // Least weight of the new frame in the temporal moving average.
+    // Least weight of the new frame in the temporal moving average this frame.
     temporal_floor: f32,
     // 1: drop all history this frame.
     reset: u32,
@@ -20,7 +20,8 @@ struct DenoiseParams {
     sigma_depth: f32,
     sigma_normal: f32,
     sigma_luminance: f32,
-    pad: f32,
+    // The variance of a long history's average relative to one frame's sample.
+    history_variance: f32,
 }
 
 // log2(e): exp(x) = exp2(x log2(e)).

@@ -11,7 +11,8 @@
 //!    its luminance moments, history length, a non-finite guard.
 //! 2. `variance`: luminance variance from the moments, spatial while the history is short.
 //! 3. `atrous`: [`DenoiseSettings::atrous_iterations`] edge-avoiding iterations (steps 1, 2,
-//!    4, ...); the first one's output is the next frame's colour history, the last one's is
+//!    4, ...); the first one's output is the next frame's colour history (on a still view,
+//!    [`crate::still_view`], the temporal average itself), the last one's is
 //!    [`Denoiser::output`].
 //!
 //! Pixels that are not a covered surface that shades pass their light (direct + indirect, not
@@ -26,6 +27,7 @@ use crate::passes::variance::VariancePass;
 use crate::readback::{ReadbackError, read_texture};
 use crate::settings::DenoiseSettings;
 use crate::shaders::ShaderError;
+use crate::still_view::{Stillness, history_weights, running_mean_frames};
 use crate::targets::{
     EMISSION_FORMAT, FrameTargets, HDR_FORMAT, POSITION_FORMAT, SURFACE_FORMAT, Target,
 };
@@ -41,7 +43,8 @@ const PARAMS_STRIDE: u64 = 256;
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 #[repr(C)]
 pub struct DenoiseParams {
-    /// Least weight of the new frame in the temporal moving average.
+    /// Least weight of the new frame in the temporal moving average this frame
+    /// ([`crate::still_view::history_floor`]).
     pub temporal_floor: f32,
     /// 1: drop all history this frame.
     pub reset: u32,
@@ -55,8 +58,9 @@ pub struct DenoiseParams {
     pub sigma_normal: f32,
     /// SVGF's sigma_l.
     pub sigma_luminance: f32,
-    /// Padding.
-    pub pad: f32,
+    /// The variance of a long history's average relative to one frame's sample
+    /// ([`crate::still_view::history_variance`]).
+    pub history_variance: f32,
 }
 
 /// The denoiser's passes, its history and its output at one size.
@@ -73,9 +77,11 @@ pub struct Denoiser {
     lighting: Target,
     filtered: Target,
     output: Target,
-    /// Textures that only bind groups name (the integrated colour, the edge data, the a-trous
-    /// ping-pong pair), owned here for the denoiser's lifetime.
-    _internal: [Target; 4],
+    /// The temporal average (the colour history of a still view).
+    integrated: Target,
+    /// Textures that only bind groups name (the edge data, the a-trous ping-pong pair), owned
+    /// here for the denoiser's lifetime.
+    _internal: [Target; 3],
     temporal_group: wgpu::BindGroup,
     variance_group: wgpu::BindGroup,
     /// Iteration 0: the variance pass's output into the colour history.
@@ -85,6 +91,9 @@ pub struct Denoiser {
     iterations: usize,
     /// No history yet: the next frame starts afresh whatever `prepare` says.
     fresh: bool,
+    /// Whether this frame's temporal average is a running mean ([`crate::still_view`]): then
+    /// it is the next frame's colour history itself, not its first a-trous iteration.
+    running_mean: bool,
 }
 
 impl Denoiser {
@@ -201,31 +210,42 @@ impl Denoiser {
             lighting,
             filtered,
             output,
-            _internal: [integrated, edges, ping0, ping1],
+            integrated,
+            _internal: [edges, ping0, ping1],
             temporal_group,
             variance_group,
             first_group,
             later_groups,
             iterations: DenoiseSettings::default().atrous_iterations as usize,
             fresh: true,
+            running_mean: false,
         })
     }
 
     /// Writes the parameters for the next frame; `reset` drops all history (first frame,
-    /// resize, scene switch, or frames rendered without the denoiser).
-    pub fn prepare(&mut self, queue: &wgpu::Queue, settings: &DenoiseSettings, reset: bool) {
+    /// resize, scene switch, or frames rendered without the denoiser); `stillness` says how
+    /// long the view has been still ([`crate::still_view`]).
+    pub fn prepare(
+        &mut self,
+        queue: &wgpu::Queue,
+        settings: &DenoiseSettings,
+        reset: bool,
+        stillness: Stillness,
+    ) {
         self.iterations = (settings.atrous_iterations as usize).min(MAX_ATROUS_ITERATIONS);
+        let weights = history_weights(settings, stillness);
+        self.running_mean = running_mean_frames(settings, stillness) > 0;
         let mut bytes = vec![0u8; (PARAMS_STRIDE as usize) * MAX_ATROUS_ITERATIONS];
         for (i, chunk) in bytes.chunks_exact_mut(PARAMS_STRIDE as usize).enumerate() {
             let p = DenoiseParams {
-                temporal_floor: settings.temporal_floor,
+                temporal_floor: weights.floor,
                 reset: u32::from(reset || self.fresh),
                 step: 1 << i,
                 iterations: self.iterations as u32,
                 sigma_depth: settings.sigma_depth,
                 sigma_normal: settings.sigma_normal,
                 sigma_luminance: settings.sigma_luminance,
-                pad: 0.0,
+                history_variance: weights.variance,
             };
             chunk[..size_of::<DenoiseParams>()].copy_from_slice(bytemuck::bytes_of(&p));
         }
@@ -263,6 +283,11 @@ impl Denoiser {
 
     /// All a-trous iterations in one compute pass (one timing entry). With no iteration the
     /// output is the variance pass's colour (the temporal average), which is also the history.
+    ///
+    /// On a still view whose average is a running mean the history is the temporal average
+    /// itself. SVGF's history, the first iteration's output, is filtered again every frame it
+    /// is kept: the longer a running mean keeps it, the more often it is blurred (on the bench's
+    /// glTF scenes the error after 64 frames rose by up to 70% with it; BENCHMARKS.md).
     pub fn record_atrous(
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
@@ -285,6 +310,9 @@ impl Denoiser {
             }
             1 => copy(encoder, &self.color_history, &self.output),
             _ => {}
+        }
+        if n > 0 && self.running_mean {
+            copy(encoder, &self.integrated, &self.color_history);
         }
     }
 

@@ -30,6 +30,7 @@ use crate::passes::tonemap::{TonemapParams, TonemapPass};
 use crate::settings::{FrameSettings, LightSampling, REFERENCE_BOUNCES, RenderMode};
 use crate::shaders::ShaderError;
 use crate::specialization::PipelineFeatures;
+use crate::still_view::{Stillness, history_weights};
 use crate::targets::FrameTargets;
 use crate::timing::{PassTimer, PassTimes};
 
@@ -103,6 +104,8 @@ pub struct FrameInput {
     pub accumulated: u32,
     /// Whether the denoiser's history restarts (first frame, new size or world).
     pub reset_history: bool,
+    /// How long the view has been still ([`crate::still_view`]).
+    pub stillness: Stillness,
     /// What the frame computes.
     pub settings: FrameSettings,
     /// Test hook: the indirect pass writes NaN at pixel (0, 0) and +Inf at (1, 0).
@@ -349,13 +352,14 @@ impl Frame {
                 (true, false) => COMPOSITE_RESOLVE,
                 (true, true) => COMPOSITE_RESOLVE | COMPOSITE_RESET,
             },
-            resolve_floor: s.denoise.temporal_floor,
+            resolve_floor: history_weights(&s.denoise, input.stillness).floor,
         };
         queue.write_buffer(&self.composite_params, 0, bytemuck::bytes_of(&composite));
         let tonemap = TonemapParams::new(s.tonemapper, s.exposure);
         queue.write_buffer(&self.tonemap_params, 0, bytemuck::bytes_of(&tonemap));
         if denoised {
-            self.denoiser.prepare(queue, &s.denoise, reset_history);
+            self.denoiser
+                .prepare(queue, &s.denoise, reset_history, input.stillness);
         }
         self.denoised = denoised;
     }

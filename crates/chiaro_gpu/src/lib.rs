@@ -3,7 +3,7 @@
 //! ([`gpu_scene`]), the passes ([`passes`]) run in order by [`frame`] as the mode in
 //! [`FrameSettings`] asks, and the headless [`Renderer`] that renders frames, for a World it
 //! updates itself or for an app that runs chiaro's systems in its own schedule, and reads the
-//! images back.
+//! images back; [`still_view`] lets a still image converge.
 //!
 //! It runs on any adapter wgpu offers, CPU rasterizers such as lavapipe included: rays are
 //! traversed in compute shaders over the BVHs `chiaro_bvh` builds, with no hardware ray tracing.
@@ -38,6 +38,7 @@ pub mod renderer;
 pub mod settings;
 pub mod shaders;
 pub mod specialization;
+pub mod still_view;
 pub mod targets;
 pub mod timing;
 

@@ -17,6 +17,7 @@ use crate::gpu_scene::{GpuScene, add_gpu_scene_systems};
 use crate::readback::{ReadbackError, read_hdr, read_texture};
 use crate::settings::{FrameSettings, SettingsError};
 use crate::shaders::ShaderError;
+use crate::still_view::Stillness;
 use crate::timing::PassTimes;
 
 /// Why a render failed.
@@ -150,6 +151,7 @@ pub struct Renderer {
     previous: Option<Mat4>,
     last_settings: Option<FrameSettings>,
     reset_history: bool,
+    stillness: Stillness,
     poison: bool,
     background_compile: bool,
 }
@@ -167,6 +169,7 @@ impl Renderer {
             previous: None,
             last_settings: None,
             reset_history: true,
+            stillness: Stillness::default(),
             poison: false,
             background_compile: false,
         }
@@ -321,6 +324,17 @@ impl Renderer {
         if self.reset_history || (changed && settings.frame.mode.accumulates()) {
             self.accumulated = 0;
         }
+        self.stillness = if self.reset_history || changed {
+            Stillness {
+                frames: 0,
+                since_reset: self.reset_history,
+            }
+        } else {
+            Stillness {
+                frames: self.stillness.frames.saturating_add(1),
+                ..self.stillness
+            }
+        };
         self.previous = Some(gpu_camera.unjittered());
         self.last_settings = Some(settings.frame);
         self.accumulated += 1;
@@ -329,6 +343,7 @@ impl Renderer {
             seed: settings.seed,
             accumulated: self.accumulated,
             reset_history: self.reset_history,
+            stillness: self.stillness,
             settings: settings.frame,
             poison: self.poison,
             features: settings

@@ -94,6 +94,12 @@ pub struct DenoiseSettings {
     /// SVGF's 4: with 4 the filter smears the thin sun shadows of environment-lit scenes (the
     /// bench's glTF scenes err up to 6 times more after 64 frames), see BENCHMARKS.md.
     pub sigma_luminance: f32,
+    /// Whether a still view converges: while the camera, the scene and the settings stay as
+    /// they are, the temporal averages (the denoiser's and the resolve's) become running means
+    /// instead of keeping `temporal_floor`'s memory; the first frame with a change goes back to
+    /// the floor, and the running mean starts again once the change has faded
+    /// ([`crate::still_view`]). Off: the moving average alone, still or not.
+    pub converge_when_still: bool,
 }
 
 impl Default for DenoiseSettings {
@@ -105,6 +111,7 @@ impl Default for DenoiseSettings {
             sigma_depth: 1.0,
             sigma_normal: 128.0,
             sigma_luminance: 2.0,
+            converge_when_still: true,
         }
     }
 }

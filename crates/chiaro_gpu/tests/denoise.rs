@@ -218,17 +218,19 @@ fn one_realtime_frame_beats_one_naive_frame() {
 }
 
 /// On a still camera the error against the converged reference falls from frame 1 to 4 to
-/// 16, and 64 frames are no worse than 16 (64 x 64, temporal floor 0.05; pixels beside the
-/// emitter left out, see [`away_from_emitters`]).
+/// 16 to 64 (64 x 64, temporal floor 0.05; pixels beside the emitter left out, see
+/// [`away_from_emitters`]).
 ///
-/// Measured, with the composite's resolve and the bounce cap of 3: relMSE 1.60e-2, 9.91e-3,
-/// 6.70e-3, 6.64e-3 after 1, 4, 16, 64 frames; away from depth edges too: 9.8e-3, 7.5e-3,
-/// 5.3e-3, 5.3e-3. From 16 frames on the error is at its floor: the cap alone leaves about
-/// 1e-3 against the uncapped reference (BENCHMARKS.md), the filter's blur the rest. With the
-/// cap of 2 (4e-3 of bias): 1.77e-2, 1.22e-2, 9.75e-3, 9.71e-3. (Before the resolve, which
-/// averages the emission and the silhouettes over frames, cap 2: 1.77e-2, 1.61e-2, 1.42e-2,
-/// 1.12e-2.) Asserted: 4 below 1, 16 below 4, 64 at most 2% above 16 and below 0.6 x one
-/// frame; away from depth edges, 64 frames below 0.85 x one frame.
+/// Measured, with the composite's resolve, the bounce cap of 3 and the still view's running
+/// mean (chiaro_gpu::still_view): relMSE 1.45e-2, 7.42e-3, 4.91e-3, 3.94e-3 after 1, 4, 16, 64
+/// frames; away from depth edges too: 8.9e-3, 5.9e-3, 4.2e-3, 2.9e-3. With the moving average
+/// alone the error stopped at its floor from 16 frames on (1.60e-2, 9.91e-3, 6.70e-3, 6.64e-3;
+/// away from depth edges 9.8e-3, 7.5e-3, 5.3e-3, 5.3e-3); the cap alone leaves about 1e-3
+/// against the uncapped reference (BENCHMARKS.md). With the cap of 2 (4e-3 of bias) and the
+/// moving average: 1.77e-2, 1.22e-2, 9.75e-3, 9.71e-3. (Before the resolve, which averages the
+/// emission and the silhouettes over frames, cap 2: 1.77e-2, 1.61e-2, 1.42e-2, 1.12e-2.)
+/// Asserted: 4 below 1, 16 below 4, 64 below 16 and below 0.6 x one frame; away from depth
+/// edges, 64 frames below 0.85 x one frame.
 #[test]
 fn still_camera_error_falls_with_frames() {
     let Some(gpu) = common::gpu() else { return };
@@ -255,7 +257,7 @@ fn still_camera_error_falls_with_frames() {
     eprintln!("still camera: relMSE by frames {errors:?}; away from depth edges {inside_errors:?}");
     let e: Vec<f64> = errors.iter().map(|(_, e)| *e).collect();
     assert!(e[1] < e[0] && e[2] < e[1], "{errors:?}");
-    assert!(e[3] <= 1.02 * e[2] && e[3] < 0.6 * e[0], "{errors:?}");
+    assert!(e[3] < e[2] && e[3] < 0.6 * e[0], "{errors:?}");
     assert!(
         inside_errors[3].1 < 0.85 * inside_errors[0].1,
         "{inside_errors:?}"

@@ -73,6 +73,7 @@ pub fn settings(
                 .logarithmic(true)
                 .text("temporal floor"),
         );
+        ui.checkbox(&mut d.converge_when_still, "converge when still");
         let most = MAX_ATROUS_ITERATIONS as u32;
         ui.add(egui::Slider::new(&mut d.atrous_iterations, 0..=most).text("a-trous iterations"));
         ui.add(

@@ -199,12 +199,15 @@ pub fn default_configs() -> Vec<BenchConfig> {
 }
 
 /// The configurations measured only when asked for by name: realtime with every shader
-/// feature compiled in rather than only the scene's (what specialisation saves), and direct
+/// feature compiled in rather than only the scene's (what specialisation saves), direct
 /// and realtime with lights picked by power instead of through the light trees (the
-/// many-lights baseline).
+/// many-lights baseline), and realtime whose still view keeps the moving average's memory
+/// (what [`chiaro_gpu::still_view`] buys).
 pub fn extra_configs() -> Vec<BenchConfig> {
     let realtime = FrameSettings::default();
     let power = LightSampling::Power;
+    let mut moving_average = realtime;
+    moving_average.denoise.converge_when_still = false;
     configs([
         (
             "direct-power",
@@ -228,6 +231,7 @@ pub fn extra_configs() -> Vec<BenchConfig> {
                 ..realtime
             },
         ),
+        ("realtime-moving-average", moving_average),
     ])
 }
 

@@ -43,7 +43,8 @@ pub struct CompositeParams {
     pub source: u32,
     /// [`COMPOSITE_RESOLVE`] and [`COMPOSITE_RESET`].
     pub flags: u32,
-    /// Least weight of this frame in the resolve's moving average.
+    /// Least weight of this frame in the resolve's moving average on a still view
+    /// ([`crate::still_view::history_floor`]).
     pub resolve_floor: f32,
 }
 
