@@ -355,7 +355,7 @@ impl Denoiser {
     }
 
     /// The colour history the next frame reprojects (the last frame's first a-trous
-    /// iteration), per pixel.
+    /// iteration, or on a still view its temporal average), per pixel.
     pub fn read_color_history(
         &self,
         device: &wgpu::Device,
