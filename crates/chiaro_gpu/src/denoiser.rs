@@ -27,7 +27,7 @@ use crate::passes::variance::VariancePass;
 use crate::readback::{ReadbackError, read_texture};
 use crate::settings::DenoiseSettings;
 use crate::shaders::ShaderError;
-use crate::still_view::{Stillness, history_weights, running_mean_frames};
+use crate::still_view::HistoryWeights;
 use crate::targets::{
     EMISSION_FORMAT, FrameTargets, HDR_FORMAT, POSITION_FORMAT, SURFACE_FORMAT, Target,
 };
@@ -223,18 +223,17 @@ impl Denoiser {
     }
 
     /// Writes the parameters for the next frame; `reset` drops all history (first frame,
-    /// resize, scene switch, or frames rendered without the denoiser); `stillness` says how
-    /// long the view has been still ([`crate::still_view`]).
+    /// resize, scene switch, or frames rendered without the denoiser); `weights` are the
+    /// temporal averages' for this frame ([`crate::still_view::history_weights`]).
     pub fn prepare(
         &mut self,
         queue: &wgpu::Queue,
         settings: &DenoiseSettings,
         reset: bool,
-        stillness: Stillness,
+        weights: HistoryWeights,
     ) {
         self.iterations = (settings.atrous_iterations as usize).min(MAX_ATROUS_ITERATIONS);
-        let weights = history_weights(settings, stillness);
-        self.running_mean = running_mean_frames(settings, stillness) > 0;
+        self.running_mean = weights.running_mean;
         let mut bytes = vec![0u8; (PARAMS_STRIDE as usize) * MAX_ATROUS_ITERATIONS];
         for (i, chunk) in bytes.chunks_exact_mut(PARAMS_STRIDE as usize).enumerate() {
             let p = DenoiseParams {

@@ -336,6 +336,7 @@ impl Frame {
             pad: [0; 3],
         };
         queue.write_buffer(&self.indirect_params, 0, bytemuck::bytes_of(&indirect));
+        let weights = history_weights(&s.denoise, input.stillness);
         let composite = CompositeParams {
             frames: if s.mode.accumulates() {
                 input.accumulated.max(1)
@@ -352,14 +353,14 @@ impl Frame {
                 (true, false) => COMPOSITE_RESOLVE,
                 (true, true) => COMPOSITE_RESOLVE | COMPOSITE_RESET,
             },
-            resolve_floor: history_weights(&s.denoise, input.stillness).floor,
+            resolve_floor: weights.floor,
         };
         queue.write_buffer(&self.composite_params, 0, bytemuck::bytes_of(&composite));
         let tonemap = TonemapParams::new(s.tonemapper, s.exposure);
         queue.write_buffer(&self.tonemap_params, 0, bytemuck::bytes_of(&tonemap));
         if denoised {
             self.denoiser
-                .prepare(queue, &s.denoise, reset_history, input.stillness);
+                .prepare(queue, &s.denoise, reset_history, weights);
         }
         self.denoised = denoised;
     }

@@ -43,6 +43,9 @@ pub struct HistoryWeights {
     /// The variance of a long history's average relative to one frame's sample
     /// ([`history_variance`]).
     pub variance: f32,
+    /// Whether the averages are running means this frame ([`running_mean_frames`] above 0):
+    /// then the colour history is the temporal average itself.
+    pub running_mean: bool,
 }
 
 /// Still frames after a change before the running mean starts, for the moving average's floor
@@ -75,6 +78,7 @@ pub fn history_weights(settings: &DenoiseSettings, stillness: Stillness) -> Hist
     HistoryWeights {
         floor: history_floor(settings.temporal_floor, k),
         variance: history_variance(settings.temporal_floor, k),
+        running_mean: k > 0,
     }
 }
 

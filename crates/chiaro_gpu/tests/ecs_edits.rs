@@ -25,8 +25,8 @@ use chiaro_bvh::{BvhStats, GpuInstance};
 use chiaro_gpu::UploadStats;
 use chiaro_gpu::gpu_scene::GpuMaterial;
 use chiaro_gpu::{FrameSettings, GpuScene, RenderMode, RenderOutput, RenderSettings, Renderer};
-use chiaro_scene::{Light, LightKind, Materials, Name, Transform, load_scene};
-use glam::{Vec3, Vec4};
+use chiaro_scene::{Light, LightKind, Name, Transform, load_scene};
+use glam::Vec3;
 
 const SIZE: u32 = 48;
 /// Paths per pixel per frame.
@@ -66,14 +66,7 @@ fn named(world: &mut World, name: &str) -> Entity {
 
 fn apply(world: &mut World, edit: Edit) {
     match edit {
-        Edit::Recolour => {
-            let mut materials = world.resource_mut::<Materials>();
-            let (id, _) = materials
-                .iter()
-                .find(|(_, m)| m.name == "red")
-                .expect("the Cornell box has a red material");
-            materials.get_mut(id).unwrap().base_color = Vec4::new(0.05, 0.065, 0.63, 1.0);
-        }
+        Edit::Recolour => common::recolour_red_wall(world),
         Edit::Move => {
             let block = named(world, "tall block");
             world.get_mut::<Transform>(block).unwrap().translation += Vec3::new(-0.05, 0.15, 0.08);

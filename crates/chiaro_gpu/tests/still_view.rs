@@ -13,8 +13,8 @@ mod common;
 use bevy_ecs::world::World;
 use chiaro_gpu::{FrameSettings, RenderSettings, Renderer};
 use chiaro_reference::{PathSettings, render_world};
-use chiaro_scene::{Materials, load_scene};
-use glam::{Vec3, Vec4};
+use chiaro_scene::load_scene;
+use glam::Vec3;
 
 const SIZE: u32 = 32;
 
@@ -48,17 +48,6 @@ fn settings(converge: bool) -> RenderSettings {
         seed: 9,
         frame,
     }
-}
-
-/// The red wall turns blue: the light it reflected onto the rest of the room changes with no
-/// motion to show it.
-fn recolour(world: &mut World) {
-    let mut materials = world.resource_mut::<Materials>();
-    let (id, _) = materials
-        .iter()
-        .find(|(_, m)| m.name == "red")
-        .expect("the Cornell box has a red material");
-    materials.get_mut(id).unwrap().base_color = Vec4::new(0.05, 0.065, 0.63, 1.0);
 }
 
 /// Errors as `1.234e-3, ...`.
@@ -122,7 +111,7 @@ fn a_still_view_converges_further_than_the_moving_average() {
 fn light_an_edit_removed_fades_as_fast_as_in_the_moving_average() {
     let Some(gpu) = common::gpu() else { return };
     let mut edited = cornell();
-    recolour(&mut edited);
+    common::recolour_red_wall(&mut edited);
     let reference = reference(&mut edited);
     let mut renderer = Renderer::new(gpu);
     let mut errors = Vec::new();
@@ -131,7 +120,7 @@ fn light_an_edit_removed_fades_as_fast_as_in_the_moving_average() {
         let s = settings(converge);
         renderer.render(&mut world, &s).unwrap();
         renderer.accumulate(&mut world, &s, 63).unwrap();
-        recolour(&mut world);
+        common::recolour_red_wall(&mut world);
         renderer.accumulate(&mut world, &s, 10).unwrap();
         let soon = common::rel_mse(&renderer.read(&s).unwrap().hdr, &reference);
         renderer.accumulate(&mut world, &s, 190).unwrap();

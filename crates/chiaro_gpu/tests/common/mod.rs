@@ -1,7 +1,9 @@
 //! Helpers shared by the GPU tests.
 
+use bevy_ecs::world::World;
 use chiaro_gpu::{ContextError, GpuContext};
-use glam::Vec3;
+use chiaro_scene::Materials;
+use glam::{Vec3, Vec4};
 
 /// A GPU context for a test, or `None` (after a message) when this machine has no adapter.
 /// With the environment variable `CI` set, a missing or unusable adapter fails the test.
@@ -87,4 +89,16 @@ pub fn pan(
         world.get_mut::<Transform>(camera).unwrap().rotation = yaw * start;
         renderer.accumulate(world, settings, 1).unwrap();
     }
+}
+
+/// Turns the Cornell box's red wall blue: an edit of `Materials` that moves nothing, so the
+/// light the wall reflected onto the room changes with no motion to show it.
+#[allow(dead_code)]
+pub fn recolour_red_wall(world: &mut World) {
+    let mut materials = world.resource_mut::<Materials>();
+    let (id, _) = materials
+        .iter()
+        .find(|(_, m)| m.name == "red")
+        .expect("the Cornell box has a red material");
+    materials.get_mut(id).unwrap().base_color = Vec4::new(0.05, 0.065, 0.63, 1.0);
 }
