@@ -12,7 +12,9 @@
 // environment, which the G-buffer gives none, along the camera's rotation), its history
 // clamped to the 3 x 3 neighbourhood of this frame's colours so that what moved leaves no
 // ghost (temporal anti-aliasing: Karis, "High Quality Temporal Supersampling", SIGGRAPH 2014
-// course). Under motion the history is resampled with Catmull-Rom, clipped to the
+// course); on a still view the clamp fades out as the running mean grows
+// (chiaro_gpu::still_view), so that a feature thinner than a pixel, which the jitter misses in
+// some frames, keeps the mean of the frames that saw it. Under motion the history is resampled with Catmull-Rom, clipped to the
 // neighbourhood's mean and standard deviation, kept shorter, and weighed against this frame by
 // inverse luminance; the history of another surface much brighter or darker is left out, so
 // that a bright emitter's does not smear onto its dark surroundings, and where no history is
@@ -36,6 +38,8 @@ struct CompositeParams {
     flags: u32,
     // Least weight of this frame in the resolve's moving average.
     resolve_floor: f32,
+    // How much of the clamp to this frame's neighbourhood the history gets on a still view.
+    resolve_clamp: f32,
 }
 
 @group(0) @binding(0) var direct_light: texture_2d<f32>;
@@ -278,14 +282,16 @@ fn resolve(pixel: vec2<i32>, local: vec2<u32>, size: vec2<i32>, x: vec3<f32>) ->
     // neighbourhood's mean (variance clipping: Salvi, "An Excursion in Temporal Supersampling",
     // GDC 2016): a moving view fetches its history between pixels, blending a thin shadow or
     // highlight with its surroundings, and the full 3 x 3 range, which holds both, would keep the
-    // blend frame after frame. A still view keeps the full range, so that the history converges.
+    // blend frame after frame. A still view keeps the full range, and applies only the share
+    // params.resolve_clamp of it, so that the history converges.
     let mean = sum / 9.0;
     let sigma = sqrt(max(sum2 / 9.0 - mean * mean, vec3<f32>(0.0)));
     lo = max(lo, mix(lo, mean - RESOLVE_CLIP_SIGMAS * sigma, moving));
     hi = min(hi, mix(hi, mean + RESOLVE_CLIP_SIGMAS * sigma, moving));
     let length = history.w + 1.0;
     let weight = max(1.0 / length, mix(params.resolve_floor, RESOLVE_MOVING_FLOOR, moving));
-    let clamped = clamp(history.xyz, lo, hi);
+    let clamp_share = mix(params.resolve_clamp, 1.0, moving);
+    let clamped = mix(history.xyz, clamp(history.xyz, lo, hi), clamp_share);
     let w_x = weight * resolve_tone_weight(x, moving);
     let w_history = (1.0 - weight) * resolve_tone_weight(clamped, moving);
     return vec4<f32>((w_x * x + w_history * clamped) / (w_x + w_history), length);

@@ -354,6 +354,7 @@ impl Frame {
                 (true, true) => COMPOSITE_RESOLVE | COMPOSITE_RESET,
             },
             resolve_floor: weights.floor,
+            resolve_clamp: weights.clamp,
         };
         queue.write_buffer(&self.composite_params, 0, bytemuck::bytes_of(&composite));
         let tonemap = TonemapParams::new(s.tonemapper, s.exposure);

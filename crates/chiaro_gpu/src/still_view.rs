@@ -18,11 +18,28 @@
 //! The variance pass needs the variance of the average relative to one frame's sample (for its
 //! luminance edge-stopping): a / (2 - a) for the moving average's steady state, then
 //! (N^2 a / (2 - a) + k) / (N + k)^2 with N = 1/a.
+//!
+//! The resolve clamps its history to the range of this frame's 3 x 3 neighbourhood, which
+//! keeps a moving view from ghosting. On a still view nothing can ghost, and the clamp does
+//! harm: a feature thinner than a pixel (a letter's stroke in a texture) is missed by every
+//! pixel's jittered sample in some frames, and each such frame clamps the history to the
+//! colours around it, so the mean of the frames that did see it is lost. So the clamp fades out
+//! over the running mean, weighing (K / (K + k))^2 after k frames ([`resolve_clamp`]): at first
+//! it still cuts the noise of a short history, then the history keeps what it saw. The square
+//! matters: what the clamp takes off in frame k is still in the mean n frames later with the
+//! weight k / n, so a clamp fading as 1/k would leave a bias that never falls, one fading as
+//! 1/k^2 leaves one that falls as log(n) / n.
 
 use crate::settings::DenoiseSettings;
 
 /// What of the stale part a history holds after a change the running mean may keep.
 const STALE_WEIGHT: f64 = 0.01;
+
+/// K of [`resolve_clamp`]: the running-mean frames after which the clamp weighs a quarter.
+/// Measured on the bench's nine scenes (BENCHMARKS.md, "Realtime: the resolve's clamp on a still
+/// view"): of the fades tried, the lowest error after 64 frames, and within 4% of the clamp
+/// kept whole after 4.
+const CLAMP_FADE_FRAMES: f32 = 4.0;
 
 /// How long the view has been still, as the renderer counts it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -46,6 +63,8 @@ pub struct HistoryWeights {
     /// Whether the averages are running means this frame ([`running_mean_frames`] above 0):
     /// then the colour history is the temporal average itself.
     pub running_mean: bool,
+    /// How much of the resolve's neighbourhood clamp its history gets ([`resolve_clamp`]).
+    pub clamp: f32,
 }
 
 /// Still frames after a change before the running mean starts, for the moving average's floor
@@ -79,7 +98,15 @@ pub fn history_weights(settings: &DenoiseSettings, stillness: Stillness) -> Hist
         floor: history_floor(settings.temporal_floor, k),
         variance: history_variance(settings.temporal_floor, k),
         running_mean: k > 0,
+        clamp: resolve_clamp(k),
     }
+}
+
+/// How much of the resolve's neighbourhood clamp the history gets after `k` frames of running
+/// mean: all of it in the moving average (k = 0), then (K / (K + k))^2 with K =
+/// [`CLAMP_FADE_FRAMES`].
+pub fn resolve_clamp(k: u32) -> f32 {
+    (CLAMP_FADE_FRAMES / (CLAMP_FADE_FRAMES + k as f32)).powi(2)
 }
 
 /// The least weight of the new frame after `k` frames of running mean, for the moving
@@ -151,6 +178,40 @@ mod tests {
         let v = history_variance(0.05, k);
         assert!(v < 0.05 * (0.05 / 1.95));
         assert!(v < 1.0 / k as f32 && v > 1.0 / (k as f32 + 40.0));
+    }
+
+    /// The resolve's clamp: whole in the moving average and while the view settles after a
+    /// change, then fading, a quarter left after K frames of running mean.
+    #[test]
+    fn the_clamp_fades_over_the_running_mean() {
+        let settings = DenoiseSettings::default();
+        let settle = settle_frames(settings.temporal_floor);
+        for j in 0..=settle {
+            assert_eq!(
+                history_weights(&settings, still(j, false)).clamp,
+                1.0,
+                "frame {j}"
+            );
+        }
+        let fade = CLAMP_FADE_FRAMES as u32;
+        assert_eq!(history_weights(&settings, still(fade, true)).clamp, 0.25);
+        assert_eq!(
+            history_weights(&settings, still(settle + fade, false)).clamp,
+            0.25
+        );
+        let mut last = 1.0;
+        for k in 1..200 {
+            let clamp = history_weights(&settings, still(k, true)).clamp;
+            assert!(clamp < last && clamp > 0.0, "k {k}: {clamp}");
+            last = clamp;
+        }
+        // Faster than 1/k: k^2 times the clamp grows no further.
+        assert!(last * 199.0 * 199.0 <= CLAMP_FADE_FRAMES * CLAMP_FADE_FRAMES);
+        let off = DenoiseSettings {
+            converge_when_still: false,
+            ..DenoiseSettings::default()
+        };
+        assert_eq!(history_weights(&off, still(500, true)).clamp, 1.0);
     }
 
     /// The weight left on what the history held before a change, frame by frame after it:

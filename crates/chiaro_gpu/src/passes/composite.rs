@@ -46,6 +46,9 @@ pub struct CompositeParams {
     /// Least weight of this frame in the resolve's moving average on a still view
     /// ([`crate::still_view::history_floor`]).
     pub resolve_floor: f32,
+    /// How much of the clamp to this frame's neighbourhood the resolve's history gets on a
+    /// still view, 0 to 1 ([`crate::still_view::resolve_clamp`]); under motion all of it.
+    pub resolve_clamp: f32,
 }
 
 /// The composite pass.
