@@ -7,9 +7,10 @@
 //! and indirect light, the a-trous passes blurred the spheres' shadows and their terminators
 //! away, because the variance of the sampled light loosens the luminance edge-stopping.
 //!
-//! Measured (48 x 48, 32 frames, seed 3; CPU 512 spp): realtime 6.27e-3 with the sun apart,
-//! 6.97e-2 with it filtered; the GPU reference mode after the same frames 3.80e-3. Asserted:
-//! realtime below 1.2e-2, and below 3 x the reference mode's error.
+//! Measured (48 x 48, 32 frames, seed 3; CPU 512 spp): realtime 2.97e-3 with the sun apart
+//! (4.86e-3 with the resolve's clamp kept whole on a still view), 6.97e-2 with it filtered;
+//! the GPU reference mode after the same frames 2.95e-3. Asserted: realtime below 1.2e-2, and
+//! below 3 x the reference mode's error.
 //!
 //! They stay sharp while the camera pans, too: the composite's resolve fetches its history
 //! between pixels then, and must not keep a shadow one or two pixels wide blended with the lit
@@ -64,12 +65,13 @@ fn the_sun_shadows_of_small_spheres_stay_sharp_in_realtime() {
 /// away from its pose for 16 frames and back for 16, like the bench's camera path; the last of
 /// the 33 frames, at the camera's own pose, against the converged CPU reference.
 ///
-/// Measured (48 x 48, seed 3; CPU 512 spp): relMSE 1.42e-2 after the pan, 6.12e-3 for the
-/// still camera after as many frames. Before the resolve changed its rules under motion
-/// (bilinear history clamped to the 3 x 3 range, other surfaces' history left out, history
-/// kept even where its position had left the image), the pan measured 6.8e-2: the thin
-/// shadows took the lit floor's history. Asserted: below [`PAN_BOUND`], and below 3 x the
-/// still camera's error after the same frames.
+/// Measured (48 x 48, seed 3; CPU 512 spp): relMSE 1.28e-2 after the pan, 4.67e-3 for the
+/// still camera after as many frames with the same moving average (a still view's running
+/// mean, `DenoiseSettings::converge_when_still`, measured 2.82e-3). Before the resolve changed its
+/// rules under motion (bilinear history clamped to the 3 x 3 range, other surfaces' history left
+/// out, history kept even where its position had left the image), the pan measured 6.8e-2: the
+/// thin shadows took the lit floor's history. Asserted: below [`PAN_BOUND`], and below 3 x the
+/// still camera's error after the same frames of the moving average.
 #[test]
 fn the_sun_shadows_of_small_spheres_stay_sharp_in_a_pan() {
     let Some((mut world, cpu, mut renderer)) = spheres_under_a_sun() else {
@@ -86,11 +88,10 @@ fn the_sun_shadows_of_small_spheres_stay_sharp_in_a_pan() {
         renderer.accumulate(&mut world, &s, 1).unwrap();
     }
     let panned = common::rel_mse(&renderer.read(&s).unwrap().hdr, &cpu);
+    let mut moving_average = mode(RenderMode::Realtime);
+    moving_average.denoise.converge_when_still = false;
     let still = renderer
-        .render(
-            &mut world,
-            &settings(SIZE, 33, 3, mode(RenderMode::Realtime)),
-        )
+        .render(&mut world, &settings(SIZE, 33, 3, moving_average))
         .unwrap();
     let still = common::rel_mse(&still.hdr, &cpu);
     eprintln!("pan relMSE {panned:.3e}, still camera {still:.3e}");
