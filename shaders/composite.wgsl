@@ -14,12 +14,13 @@
 // ghost (temporal anti-aliasing: Karis, "High Quality Temporal Supersampling", SIGGRAPH 2014
 // course); on a still view the clamp fades out as the running mean grows
 // (chiaro_gpu::still_view), so that a feature thinner than a pixel, which the jitter misses in
-// some frames, keeps the mean of the frames that saw it. Under motion the history is resampled with Catmull-Rom, clipped to the
-// neighbourhood's mean and standard deviation, kept shorter, and weighed against this frame by
-// inverse luminance; the history of another surface much brighter or darker is left out, so
-// that a bright emitter's does not smear onto its dark surroundings, and where no history is
-// left the pixel starts from a tent filter of this frame. Non-finite radiance never enters the
-// sum or the history (DESIGN.md: tested by exponent bits).
+// some frames, keeps the mean of the frames that saw it. Under motion the history is resampled
+// with Catmull-Rom, clipped to the neighbourhood's mean and standard deviation, kept shorter,
+// and weighed against this frame by inverse luminance; the history of another surface much
+// brighter or darker is left out, so that a bright emitter's does not smear onto its dark
+// surroundings, and where no history is left the pixel starts from a tent filter of this
+// frame. Non-finite radiance never enters the sum or the history (DESIGN.md: tested by
+// exponent bits).
 
 #import lib/generated.wgsl
 #import lib/float.wgsl
