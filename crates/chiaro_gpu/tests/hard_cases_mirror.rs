@@ -39,9 +39,7 @@ use chiaro_gpu::settings::DEFAULT_BOUNCES;
 use chiaro_gpu::{FrameSettings, RenderMode, Renderer};
 use chiaro_reference::PathSettings;
 use chiaro_scene::builtin::shapes::icosphere;
-use chiaro_scene::{
-    Camera, Environment, Material, Node, Projection, SceneBuilder, Transform, load_scene,
-};
+use chiaro_scene::{Material, SceneBuilder, Transform, load_scene};
 use chiaro_shading::brdf::{self, SurfaceParams};
 use common::masked_rel_mse;
 use glam::Vec3;
@@ -196,22 +194,7 @@ fn rough_metal_in_a_white_furnace_loses_only_single_scattering_energy() {
         .unwrap()
         .unwrap();
     b.add_instance("sphere", mesh, material, Transform::IDENTITY);
-    b.add_node(Node {
-        name: Some("camera".into()),
-        transform: Transform::looking_at(eye, Vec3::ZERO, Vec3::Y),
-        camera: Some(Camera {
-            projection: Projection::Perspective {
-                yfov: 45f32.to_radians(),
-                aspect_ratio: None,
-                znear: 0.01,
-                zfar: None,
-            },
-        }),
-        ..Node::default()
-    });
-    b.set_environment(Environment::constant(Vec3::ONE));
-    let mut world = World::new();
-    b.spawn(&mut world);
+    let mut world = common::spawn_under_white_sky(b, eye);
     let mut renderer = Renderer::new(gpu);
     let reference = FrameSettings {
         spp: 4,

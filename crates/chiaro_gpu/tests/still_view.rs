@@ -18,9 +18,7 @@ use chiaro_scene::builtin::shapes::quad;
 use chiaro_scene::material::{Filter, Sampler};
 use chiaro_scene::texture::{ColorSpace, Texture};
 use chiaro_scene::transform::Transform;
-use chiaro_scene::{
-    Camera, Environment, Material, Node, Projection, SceneBuilder, TextureRef, load_scene,
-};
+use chiaro_scene::{Material, SceneBuilder, TextureRef, load_scene};
 use glam::{Affine2, Vec3};
 
 const SIZE: u32 = 32;
@@ -70,23 +68,7 @@ fn striped_card() -> World {
         .unwrap()
         .unwrap();
     b.add_instance("card", mesh, material, Transform::IDENTITY);
-    b.add_node(Node {
-        name: Some("camera".into()),
-        transform: Transform::looking_at(Vec3::new(0.0, 0.0, 2.0), Vec3::ZERO, Vec3::Y),
-        camera: Some(Camera {
-            projection: Projection::Perspective {
-                yfov: 45f32.to_radians(),
-                aspect_ratio: None,
-                znear: 0.01,
-                zfar: None,
-            },
-        }),
-        ..Node::default()
-    });
-    b.set_environment(Environment::constant(Vec3::ONE));
-    let mut world = World::new();
-    b.spawn(&mut world);
-    world
+    common::spawn_under_white_sky(b, Vec3::new(0.0, 0.0, 2.0))
 }
 
 /// The converged CPU image of `world`.

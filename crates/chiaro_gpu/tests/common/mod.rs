@@ -2,7 +2,7 @@
 
 use bevy_ecs::world::World;
 use chiaro_gpu::{ContextError, GpuContext};
-use chiaro_scene::Materials;
+use chiaro_scene::{Camera, Environment, Materials, Node, Projection, SceneBuilder, Transform};
 use glam::{Vec3, Vec4};
 
 /// A GPU context for a test, or `None` (after a message) when this machine has no adapter.
@@ -101,4 +101,27 @@ pub fn recolour_red_wall(world: &mut World) {
         .find(|(_, m)| m.name == "red")
         .expect("the Cornell box has a red material");
     materials.get_mut(id).unwrap().base_color = Vec4::new(0.05, 0.065, 0.63, 1.0);
+}
+
+/// The scene built in `b`, seen from `eye` looking at the origin (45-degree perspective
+/// camera) under a uniform white sky, spawned into a new World.
+#[allow(dead_code)]
+pub fn spawn_under_white_sky(mut b: SceneBuilder, eye: Vec3) -> World {
+    b.add_node(Node {
+        name: Some("camera".into()),
+        transform: Transform::looking_at(eye, Vec3::ZERO, Vec3::Y),
+        camera: Some(Camera {
+            projection: Projection::Perspective {
+                yfov: 45f32.to_radians(),
+                aspect_ratio: None,
+                znear: 0.01,
+                zfar: None,
+            },
+        }),
+        ..Node::default()
+    });
+    b.set_environment(Environment::constant(Vec3::ONE));
+    let mut world = World::new();
+    b.spawn(&mut world);
+    world
 }
