@@ -1,7 +1,9 @@
 // The G-buffer: the scene rasterized in indexed draws over the raster lists
 // (chiaro_gpu::gpu_scene::raster: each triangle starts at a vertex of its own, which names the
-// triangle), vertex data pulled from the scene buffers, one instanced draw per run of
-// consecutive instances of one mesh (instance_index is the instance's index in bvh_instances).
+// triangle), one instanced draw per run of consecutive instances of one mesh (instance_index is
+// the instance's index in bvh_instances). The vertex stage's inputs are vertex buffers
+// (chiaro_gpu::passes::gbuffer::VERTEX_LAYOUTS), not storage loads, which lavapipe runs as a
+// gather per vertex.
 // Per pixel: world position, geometric and shading normals (octahedral, Cigolle et al., "A
 // Survey of Efficient Representations for Independent Unit Vectors", JCGT 3(2), 2014), base
 // colour, metallic, roughness, emission, instance id and the motion vector; depth in the depth
@@ -21,10 +23,6 @@
 #import lib/gbuffer_packing.wgsl
 
 @group(1) @binding(0) var<storage, read> camera: GpuCamera;
-
-// chiaro_gpu::gpu_scene::RasterVertex: the scene vertex, and the triangle (in its mesh) that
-// starts at it; the draws' indices point here.
-@group(0) @binding(5) var<storage, read> raster_vertices: array<vec2<u32>>;
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
@@ -53,24 +51,44 @@ fn transform_normal(world_to_object: array<vec4<f32>, 3>, n: vec3<f32>) -> vec3<
     return world_to_object[0].xyz * n.x + world_to_object[1].xyz * n.y + world_to_object[2].xyz * n.z;
 }
 
-// `raster` indexes raster_vertices.
+// A raster vertex: its scene vertex (chiaro_gpu::gpu_scene::GpuVertex), the triangle that starts
+// at it, and its instance's transforms (rows of 3x4 matrices).
+struct VertexIn {
+    @location(0) position_u0: vec4<f32>,
+    @location(1) normal_v0: vec4<f32>,
+    @location(2) tangent: vec4<f32>,
+    @location(3) uv1: vec2<f32>,
+    @location(4) triangle: u32,
+    @location(5) world_to_object_0: vec4<f32>,
+    @location(6) world_to_object_1: vec4<f32>,
+    @location(7) world_to_object_2: vec4<f32>,
+    @location(8) object_to_world_0: vec4<f32>,
+    @location(9) object_to_world_1: vec4<f32>,
+    @location(10) object_to_world_2: vec4<f32>,
+    @location(11) previous_object_to_world_0: vec4<f32>,
+    @location(12) previous_object_to_world_1: vec4<f32>,
+    @location(13) previous_object_to_world_2: vec4<f32>,
+}
+
 @vertex
-fn vs_main(@builtin(vertex_index) raster: u32, @builtin(instance_index) instance: u32) -> VertexOut {
-    let vertex = raster_vertices[raster].x;
-    let record = bvh_instances[instance];
-    let v = scene_vertices[vertex];
-    let m = record.object_to_world;
-    let world = transform_point(m, v.position);
-    let previous = transform_point(scene_instance_extras[instance].previous_object_to_world, v.position);
+fn vs_main(v: VertexIn, @builtin(instance_index) instance: u32) -> VertexOut {
+    let m = array<vec4<f32>, 3>(v.object_to_world_0, v.object_to_world_1, v.object_to_world_2);
+    let world_to_object = array<vec4<f32>, 3>(v.world_to_object_0, v.world_to_object_1,
+        v.world_to_object_2);
+    let previous_to_world = array<vec4<f32>, 3>(v.previous_object_to_world_0,
+        v.previous_object_to_world_1, v.previous_object_to_world_2);
+    let position = v.position_u0.xyz;
+    let world = transform_point(m, position);
+    let previous = transform_point(previous_to_world, position);
     var out: VertexOut;
     out.clip = camera.view_proj * vec4<f32>(world, 1.0);
     out.world = world;
-    out.normal = transform_normal(record.world_to_object, v.normal);
+    out.normal = transform_normal(world_to_object, v.normal_v0.xyz);
     out.tangent = vec4<f32>(transform_vector(m, v.tangent.xyz), v.tangent.w);
-    out.uvs = vec4<f32>(v.u0, v.v0, v.uv1);
+    out.uvs = vec4<f32>(v.position_u0.w, v.normal_v0.w, v.uv1);
     out.instance = instance;
     out.previous_clip = camera.previous_view_proj * vec4<f32>(previous, 1.0);
-    out.triangle = raster_vertices[raster].y;
+    out.triangle = v.triangle;
     return out;
 }
 

@@ -16,10 +16,11 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::layout::GpuMesh;
+use super::layout::{GpuMesh, GpuVertex};
 
-/// A vertex of the G-buffer's draws: an element of the storage buffer at binding 5, which
-/// `gbuffer.wgsl`'s vertex stage reads at its `vertex_index` (the draw's index list points here).
+/// A vertex of the G-buffer's draws (the draw's index list points here). Its `triangle` is a
+/// vertex attribute of `gbuffer.wgsl`'s vertex stage; its scene vertex's attributes are the
+/// same element of a parallel vertex buffer ([`raster_attributes`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
 #[repr(C)]
 pub struct RasterVertex {
@@ -73,6 +74,12 @@ pub fn raster_lists(
         }
     }
     (vertices, raster_indices)
+}
+
+/// The attributes of each raster vertex's scene vertex, in raster vertex order: the G-buffer's
+/// vertex buffer.
+pub fn raster_attributes(raster: &[RasterVertex], vertices: &[GpuVertex]) -> Vec<GpuVertex> {
+    raster.iter().map(|r| vertices[r.vertex as usize]).collect()
 }
 
 /// Appends a raster vertex; returns its index.

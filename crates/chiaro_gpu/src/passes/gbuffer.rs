@@ -1,17 +1,21 @@
 //! `gbuffer`: rasterizes every instance (one indexed, instanced draw per run of consecutive
-//! instances of one mesh, over the raster lists of [`crate::gpu_scene::raster`]; vertex data
-//! pulled from the scene buffers) into the G-buffer targets: position, normals, base colour,
+//! instances of one mesh, over the raster lists of [`crate::gpu_scene::raster`]; vertices and
+//! instance transforms from vertex buffers, see [`VERTEX_LAYOUTS`]) into the G-buffer targets: position, normals, base colour,
 //! metallic, roughness, emission, instance id and motion vectors, plus depth (reversed: the
 //! near plane at 1, infinitely far at 0; see [`crate::camera`]). A back face of a single-sided
 //! material is drawn and marked as not shading, as the CPU reference treats it, except in the
 //! instances whose back faces cannot be seen ([`crate::gpu_scene::back_faces`]), which are
 //! drawn with a pipeline that culls them.
 
+use std::mem::offset_of;
 use std::ops::Range;
 
+use chiaro_bvh::GpuInstance;
+
 use crate::gpu_scene::GpuScene;
+use crate::gpu_scene::RasterVertex;
 use crate::gpu_scene::back_faces::{CullView, eye_outside};
-use crate::gpu_scene::layout::GpuMesh;
+use crate::gpu_scene::layout::{GpuInstanceExtra, GpuMesh, GpuVertex};
 use crate::shaders::ShaderError;
 use crate::specialization::{PipelineFeatures, SpecializedPipelines};
 use crate::targets::{self, FrameTargets};
@@ -115,6 +119,16 @@ impl GbufferPass {
         pass.set_bind_group(0, scene_group, &[]);
         pass.set_bind_group(1, camera, &[]);
         pass.set_index_buffer(scene.raster_indices().slice(..), wgpu::IndexFormat::Uint32);
+        let buffers = scene.raster_vertex_buffers();
+        let slots = [
+            buffers.attributes,
+            buffers.triangles,
+            buffers.instances,
+            buffers.instance_extras,
+        ];
+        for (slot, buffer) in (0..).zip(slots) {
+            pass.set_vertex_buffer(slot, buffer.slice(..));
+        }
         let mut culling = None;
         for (mesh, instances, front_only) in draws(scene, view) {
             if culling != Some(front_only) {
@@ -156,6 +170,101 @@ fn draws(scene: &GpuScene, view: Option<CullView>) -> Vec<(GpuMesh, Range<u32>, 
     }
     draws
 }
+
+/// A vertex attribute of `format` at byte `offset` of its record, at `shader_location`.
+const fn attribute(
+    format: wgpu::VertexFormat,
+    offset: usize,
+    shader_location: u32,
+) -> wgpu::VertexAttribute {
+    wgpu::VertexAttribute {
+        format,
+        offset: offset as u64,
+        shader_location,
+    }
+}
+
+/// The three rows of a 3x4 matrix at byte `offset`, at locations `location..location + 3`.
+const fn matrix_rows(offset: usize, location: u32) -> [wgpu::VertexAttribute; 3] {
+    let row = wgpu::VertexFormat::Float32x4;
+    [
+        attribute(row, offset, location),
+        attribute(row, offset + 16, location + 1),
+        attribute(row, offset + 32, location + 2),
+    ]
+}
+
+/// Locations 0 to 3: the scene vertex's position and u, normal and v, tangent, and UV set 1.
+const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 4] = [
+    attribute(
+        wgpu::VertexFormat::Float32x4,
+        offset_of!(GpuVertex, position),
+        0,
+    ),
+    attribute(
+        wgpu::VertexFormat::Float32x4,
+        offset_of!(GpuVertex, normal),
+        1,
+    ),
+    attribute(
+        wgpu::VertexFormat::Float32x4,
+        offset_of!(GpuVertex, tangent),
+        2,
+    ),
+    attribute(wgpu::VertexFormat::Float32x2, offset_of!(GpuVertex, uv1), 3),
+];
+
+/// Location 4: the triangle that starts at the raster vertex.
+const TRIANGLE_ATTRIBUTE: [wgpu::VertexAttribute; 1] = [attribute(
+    wgpu::VertexFormat::Uint32,
+    offset_of!(RasterVertex, triangle),
+    4,
+)];
+
+/// Locations 5 to 10: the rows of world-to-object, then of object-to-world.
+const INSTANCE_ATTRIBUTES: [wgpu::VertexAttribute; 6] = {
+    let to_object = matrix_rows(offset_of!(GpuInstance, world_to_object), 5);
+    let to_world = matrix_rows(offset_of!(GpuInstance, object_to_world), 8);
+    [
+        to_object[0],
+        to_object[1],
+        to_object[2],
+        to_world[0],
+        to_world[1],
+        to_world[2],
+    ]
+};
+
+/// Locations 11 to 13: the rows of the previous frame's object-to-world.
+const PREVIOUS_TRANSFORM_ATTRIBUTES: [wgpu::VertexAttribute; 3] =
+    matrix_rows(offset_of!(GpuInstanceExtra, previous_object_to_world), 11);
+
+/// The G-buffer's vertex buffers, slot by slot ([`GpuScene::raster_vertex_buffers`]): per raster
+/// vertex its scene vertex's attributes and its [`RasterVertex`]; per instance its
+/// `GpuInstance` and its [`GpuInstanceExtra`]. The input assembler fetches them, so the vertex
+/// stage loads nothing from storage buffers (see [`crate::gpu_scene`] for what that saves).
+pub const VERTEX_LAYOUTS: [wgpu::VertexBufferLayout<'static>; 4] = [
+    wgpu::VertexBufferLayout {
+        array_stride: size_of::<GpuVertex>() as u64,
+        step_mode: wgpu::VertexStepMode::Vertex,
+        attributes: &VERTEX_ATTRIBUTES,
+    },
+    wgpu::VertexBufferLayout {
+        array_stride: size_of::<RasterVertex>() as u64,
+        step_mode: wgpu::VertexStepMode::Vertex,
+        attributes: &TRIANGLE_ATTRIBUTE,
+    },
+    wgpu::VertexBufferLayout {
+        array_stride: size_of::<GpuInstance>() as u64,
+        step_mode: wgpu::VertexStepMode::Instance,
+        attributes: &INSTANCE_ATTRIBUTES,
+    },
+    wgpu::VertexBufferLayout {
+        array_stride: size_of::<GpuInstanceExtra>() as u64,
+        step_mode: wgpu::VertexStepMode::Instance,
+        attributes: &PREVIOUS_TRANSFORM_ATTRIBUTES,
+    },
+];
 
 /// The G-buffer's pipelines for one feature set: drawing every face, and culling back faces.
 pub struct GbufferPipelines {
@@ -205,7 +314,7 @@ fn build_pipeline(
             module,
             entry_point: Some("vs_main"),
             compilation_options: options(),
-            buffers: &[],
+            buffers: &VERTEX_LAYOUTS.map(Some),
         },
         primitive: wgpu::PrimitiveState {
             cull_mode,
