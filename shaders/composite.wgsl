@@ -53,10 +53,10 @@ struct CompositeParams {
 @group(0) @binding(7) var<storage, read> params: CompositeParams;
 @group(0) @binding(8) var hdr_out: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(9) var gbuffer_motion: texture_2d<u32>;
-@group(0) @binding(10) var<storage, read> resolve_previous: array<vec4<f32>>;
-@group(0) @binding(11) var<storage, read_write> resolve_next: array<vec4<f32>>;
-@group(0) @binding(12) var<storage, read> resolve_previous_surface: array<u32>;
-@group(0) @binding(13) var<storage, read_write> resolve_next_surface: array<u32>;
+@group(0) @binding(10) var resolve_previous: texture_2d<f32>;
+@group(0) @binding(11) var resolve_next: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(12) var resolve_previous_surface: texture_2d<u32>;
+@group(0) @binding(13) var resolve_next_surface: texture_storage_2d<r32uint, write>;
 // The punctual lights' exact part of direct_light, which the denoiser leaves out of its lighting.
 @group(0) @binding(14) var direct_punctual: texture_2d<f32>;
 @group(0) @binding(15) var<storage, read> camera: GpuCamera;
@@ -190,9 +190,10 @@ fn resolve_history(at: vec2<f32>, size: vec2<i32>, surface: u32, lum: f32, other
         var same = true;
         for (var k = 0; k < 16; k++) {
             let o = vec2<i32>(k & 3, k >> 2u);
-            let i = u32(base.y - 1 + o.y) * u32(size.x) + u32(base.x - 1 + o.x);
-            let h = resolve_previous[i];
-            same = same && resolve_compatible(h, resolve_previous_surface[i], surface, lum);
+            let q = base - 1 + o;
+            let h = textureLoad(resolve_previous, q, 0);
+            let h_surface = textureLoad(resolve_previous_surface, q, 0).x;
+            same = same && resolve_compatible(h, h_surface, surface, lum);
             sum += wx[o.x] * wy[o.y] * h;
         }
         if same {
@@ -206,9 +207,9 @@ fn resolve_history(at: vec2<f32>, size: vec2<i32>, surface: u32, lum: f32, other
         let q = base + o;
         let w = select(1.0 - t.x, t.x, o.x == 1) * select(1.0 - t.y, t.y, o.y == 1);
         if all(q >= vec2<i32>(0)) && all(q < size) && w > 0.0 {
-            let i = u32(q.y) * u32(size.x) + u32(q.x);
-            let h = resolve_previous[i];
-            let compatible = resolve_compatible(h, resolve_previous_surface[i], surface, lum);
+            let h = textureLoad(resolve_previous, q, 0);
+            let h_surface = textureLoad(resolve_previous_surface, q, 0).x;
+            let compatible = resolve_compatible(h, h_surface, surface, lum);
             let w_surface = w * select(other, 1.0, compatible);
             sum += w_surface * h;
             total += w_surface;
@@ -316,8 +317,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>,
     if resolving {
         let x = neighbour(local.xy, vec2<i32>(0));
         let resolved = resolve(vec2<i32>(id.xy), local.xy, vec2<i32>(size), x);
-        resolve_next[index] = resolved;
-        resolve_next_surface[index] = resolve_surface(vec2<i32>(id.xy));
+        textureStore(resolve_next, vec2<i32>(id.xy), resolved);
+        textureStore(resolve_next_surface, vec2<i32>(id.xy),
+            vec4<u32>(resolve_surface(vec2<i32>(id.xy)), 0u, 0u, 0u));
         textureStore(hdr_out, vec2<i32>(id.xy), vec4<f32>(resolved.xyz, 1.0));
         return;
     }

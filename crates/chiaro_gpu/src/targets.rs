@@ -18,6 +18,8 @@ pub const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 pub const FIRST_BOUNCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 /// Format of the LDR image.
 pub const LDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+/// The surface each pixel of the resolve's history saw.
+pub const RESOLVE_SURFACE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 
 /// A texture and its default view.
 pub struct Target {
@@ -96,12 +98,14 @@ pub struct FrameTargets {
     pub ldr: Target,
     /// Running sum of the frames' radiance (one `vec4<f32>` per pixel).
     pub accumulation: wgpu::Buffer,
-    /// The realtime mode's resolved colour and its history length (one `vec4<f32>` per pixel),
-    /// two of them: each frame reads one and writes the other.
-    pub resolve: [wgpu::Buffer; 2],
-    /// The surface each pixel of `resolve` saw (instance + 1, 0 for none; one `u32` per pixel),
-    /// two of them like `resolve`.
-    pub resolve_surface: [wgpu::Buffer; 2],
+    /// The realtime mode's resolved colour and its history length, two of them: each frame
+    /// reads one and writes the other. Textures rather than storage buffers: the resolve reads
+    /// 16 texels a pixel, and lavapipe loads a texel for all lanes at once but a storage
+    /// element lane by lane.
+    pub resolve: [Target; 2],
+    /// The surface each pixel of `resolve` saw (instance + 1, 0 for none), two of them like
+    /// `resolve`.
+    pub resolve_surface: [Target; 2],
 }
 
 impl FrameTargets {
@@ -138,14 +142,11 @@ impl FrameTargets {
             hdr: Target::new(device, "hdr image", HDR_FORMAT, size, storage),
             ldr: Target::new(device, "ldr image", LDR_FORMAT, size, storage),
             accumulation: pixel_buffer(device, "accumulation", size, 16),
-            resolve: [
-                pixel_buffer(device, "resolve history a", size, 16),
-                pixel_buffer(device, "resolve history b", size, 16),
-            ],
-            resolve_surface: [
-                pixel_buffer(device, "resolve surfaces a", size, 4),
-                pixel_buffer(device, "resolve surfaces b", size, 4),
-            ],
+            resolve: ["resolve history a", "resolve history b"]
+                .map(|label| Target::new(device, label, HDR_FORMAT, size, storage)),
+            resolve_surface: ["resolve surfaces a", "resolve surfaces b"].map(|label| {
+                Target::new(device, label, RESOLVE_SURFACE_FORMAT, size, storage)
+            }),
         }
     }
 }

@@ -8,7 +8,7 @@ use wgpu::TextureSampleType as S;
 
 use super::{ComputeStage, view};
 use crate::shaders::{ShaderError, SharedConstant};
-use crate::targets::{FrameTargets, HDR_FORMAT};
+use crate::targets::{FrameTargets, HDR_FORMAT, RESOLVE_SURFACE_FORMAT};
 
 /// Source of the reflected light: the direct estimate only.
 pub const COMPOSITE_DIRECT: u32 = 0;
@@ -72,10 +72,10 @@ impl CompositePass {
             e(7, params()),
             e(8, super::storage_texture(HDR_FORMAT)),
             e(9, texture(S::Uint)),
-            e(10, storage(true)),
-            e(11, storage(false)),
-            e(12, storage(true)),
-            e(13, storage(false)),
+            e(10, texture(float)),
+            e(11, super::storage_texture(HDR_FORMAT)),
+            e(12, texture(S::Uint)),
+            e(13, super::storage_texture(RESOLVE_SURFACE_FORMAT)),
             e(14, texture(float)),
             e(15, params()),
         ];
@@ -109,10 +109,10 @@ impl CompositePass {
                 params.as_entire_binding(),
                 view(&targets.hdr.view),
                 view(&targets.motion.view),
-                targets.resolve[parity].as_entire_binding(),
-                targets.resolve[1 - parity].as_entire_binding(),
-                targets.resolve_surface[parity].as_entire_binding(),
-                targets.resolve_surface[1 - parity].as_entire_binding(),
+                view(&targets.resolve[parity].view),
+                view(&targets.resolve[1 - parity].view),
+                view(&targets.resolve_surface[parity].view),
+                view(&targets.resolve_surface[1 - parity].view),
                 view(&targets.direct_punctual.view),
                 camera.as_entire_binding(),
             ],
