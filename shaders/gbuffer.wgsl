@@ -1,6 +1,6 @@
 // The G-buffer: the scene rasterized in indexed draws over the raster lists
-// (chiaro_gpu::gpu_scene::raster: each triangle starts at a vertex of its own, which names the
-// triangle), one instanced draw per run of consecutive instances of one mesh (instance_index is
+// (chiaro_gpu::gpu_scene::raster: each triangle starts at a vertex of its own, which carries the
+// triangle's face), one instanced draw per run of consecutive instances of one mesh (instance_index is
 // the instance's index in bvh_instances). The vertex stage's inputs are vertex buffers
 // (chiaro_gpu::passes::gbuffer::VERTEX_LAYOUTS), not storage loads, which lavapipe runs as a
 // gather per vertex.
@@ -10,8 +10,8 @@
 // attachment. Alpha-masked texels are discarded. Surfaces are shaded as chiaro_reference's
 // surface_at: the front face is counter-clockwise (clockwise under a mirroring transform), a
 // back face of a single-sided material does not shade, normal maps use the interpolated
-// tangent frame. The geometric normal is the triangle's, made in the fragment stage from its
-// three world-space corners.
+// tangent frame. The geometric normal is the triangle's face (the cross product of its
+// object-space edges) taken to world space as a normal is.
 
 #import lib/generated.wgsl
 #import lib/bvh_bindings.wgsl
@@ -32,8 +32,9 @@ struct VertexOut {
     @location(3) uvs: vec4<f32>,
     @location(4) @interpolate(flat) instance: u32,
     @location(5) previous_clip: vec4<f32>,
-    // The triangle's index in its mesh (from its first vertex, the provoking one).
-    @location(6) @interpolate(flat) triangle: u32,
+    // The triangle's front side in world space, not unit (from its first vertex, the provoking
+    // one).
+    @location(6) @interpolate(flat) face: vec3<f32>,
 }
 
 fn transform_point(m: array<vec4<f32>, 3>, p: vec3<f32>) -> vec3<f32> {
@@ -51,14 +52,15 @@ fn transform_normal(world_to_object: array<vec4<f32>, 3>, n: vec3<f32>) -> vec3<
     return world_to_object[0].xyz * n.x + world_to_object[1].xyz * n.y + world_to_object[2].xyz * n.z;
 }
 
-// A raster vertex: its scene vertex (chiaro_gpu::gpu_scene::GpuVertex), the triangle that starts
-// at it, and its instance's transforms (rows of 3x4 matrices).
+// A raster vertex (chiaro_gpu::gpu_scene::RasterVertex): its scene vertex, the face of the
+// triangle that starts at it (object space), and its instance's transforms (rows of 3x4
+// matrices).
 struct VertexIn {
     @location(0) position_u0: vec4<f32>,
     @location(1) normal_v0: vec4<f32>,
     @location(2) tangent: vec4<f32>,
     @location(3) uv1: vec2<f32>,
-    @location(4) triangle: u32,
+    @location(4) face: vec3<f32>,
     @location(5) world_to_object_0: vec4<f32>,
     @location(6) world_to_object_1: vec4<f32>,
     @location(7) world_to_object_2: vec4<f32>,
@@ -88,21 +90,10 @@ fn vs_main(v: VertexIn, @builtin(instance_index) instance: u32) -> VertexOut {
     out.uvs = vec4<f32>(v.position_u0.w, v.normal_v0.w, v.uv1);
     out.instance = instance;
     out.previous_clip = camera.previous_view_proj * vec4<f32>(previous, 1.0);
-    out.triangle = v.triangle;
+    // The inverse transpose keeps the object-space front side in front under a mirroring
+    // transform, as chiaro_reference's surface_at does.
+    out.face = transform_normal(world_to_object, v.face);
     return out;
-}
-
-// The front side of triangle `triangle` of `instance`'s mesh in world space (not unit): the
-// cross product of its world-space edges, reversed under a mirroring transform.
-fn triangle_front(instance: u32, triangle: u32) -> vec3<f32> {
-    let record = bvh_instances[instance];
-    let first = scene_meshes[record.mesh].index_base + 3u * triangle;
-    let m = record.object_to_world;
-    let p0 = transform_point(m, scene_vertices[scene_indices[first]].position);
-    let p1 = transform_point(m, scene_vertices[scene_indices[first + 1u]].position);
-    let p2 = transform_point(m, scene_vertices[scene_indices[first + 2u]].position);
-    let front = cross(p1 - p0, p2 - p0);
-    return select(front, -front, scene_instance_extras[instance].mirrored != 0u);
 }
 
 struct GbufferOut {
@@ -125,7 +116,7 @@ fn fs_main(in: VertexOut) -> GbufferOut {
     }
     let view = in.world - camera.origin;
     let incoming = select(view, camera.forward, camera.orthographic != 0u);
-    let geometric_front = safe_normalize(triangle_front(in.instance, in.triangle), vec3<f32>(0.0, 0.0, 1.0));
+    let geometric_front = safe_normalize(in.face, vec3<f32>(0.0, 0.0, 1.0));
     let mirrored = scene_instance_extras[in.instance].mirrored != 0u;
     let shading_front = mapped_shading_normal(material, mesh_flags, in.uvs, in.normal, in.tangent,
         mirrored, geometric_front);

@@ -144,9 +144,8 @@ impl FrameTargets {
             accumulation: pixel_buffer(device, "accumulation", size, 16),
             resolve: ["resolve history a", "resolve history b"]
                 .map(|label| Target::new(device, label, HDR_FORMAT, size, storage)),
-            resolve_surface: ["resolve surfaces a", "resolve surfaces b"].map(|label| {
-                Target::new(device, label, RESOLVE_SURFACE_FORMAT, size, storage)
-            }),
+            resolve_surface: ["resolve surfaces a", "resolve surfaces b"]
+                .map(|label| Target::new(device, label, RESOLVE_SURFACE_FORMAT, size, storage)),
         }
     }
 }

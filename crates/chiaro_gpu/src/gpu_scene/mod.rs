@@ -39,8 +39,8 @@
 //! [`MirrorBuffer`] then writes only the element ranges that differ from what the GPU holds,
 //! so moving one instance writes that instance's record and the TLAS nodes that moved.
 //!
-//! The G-buffer's vertex stage reads no storage buffer: its vertices, their triangles and the
-//! instances' transforms come through vertex buffers ([`RasterVertexBuffers`]), which the
+//! The G-buffer's vertex stage reads no storage buffer: its vertices, their triangles' faces
+//! and the instances' transforms come through vertex buffers ([`RasterVertexBuffers`]), which the
 //! input assembler fetches. On lavapipe a storage load in the vertex stage costs a gather per
 //! vertex even where every vertex of the draw reads the same instance; the fixed-function fetch
 //! cut the G-buffer of a 1M-triangle scene at 256x256 from 550 to 140 ms.
@@ -70,10 +70,9 @@ pub use texel_mirror::{MirrorTexels, TexelOverflow};
 /// `passes::gbuffer`'s.
 #[derive(Clone, Copy, Debug)]
 pub struct RasterVertexBuffers<'a> {
-    /// Per raster vertex: its scene vertex's attributes ([`GpuVertex`]).
-    pub attributes: &'a wgpu::Buffer,
-    /// Per raster vertex: the [`RasterVertex`] (the triangle starting at it).
-    pub triangles: &'a wgpu::Buffer,
+    /// Per raster vertex: the [`RasterVertex`] (its scene vertex's attributes and the face of
+    /// the triangle starting at it).
+    pub vertices: &'a wgpu::Buffer,
     /// Per instance: the `chiaro_bvh::GpuInstance` records (its transforms).
     pub instances: &'a wgpu::Buffer,
     /// Per instance: the [`GpuInstanceExtra`] records (the previous frame's transform).
@@ -99,7 +98,6 @@ pub struct GpuScene {
     vertices: MirrorBuffer<GpuVertex>,
     indices: MirrorBuffer<u32>,
     raster_vertices: MirrorBuffer<RasterVertex>,
-    raster_attributes: MirrorBuffer<GpuVertex>,
     raster_indices: MirrorBuffer<u32>,
     closed_bounds: Vec<Option<back_faces::ClosedBounds>>,
     cullable_boxes: Vec<Option<back_faces::ClosedBounds>>,
@@ -186,7 +184,6 @@ impl GpuScene {
             vertices: MirrorBuffer::new(d, "scene vertices", STORAGE),
             indices: MirrorBuffer::new(d, "scene indices", STORAGE),
             raster_vertices: MirrorBuffer::new(d, "raster vertices", VERTEX),
-            raster_attributes: MirrorBuffer::new(d, "raster vertex attributes", VERTEX),
             raster_indices: MirrorBuffer::new(d, "raster indices", wgpu::BufferUsages::INDEX),
             closed_bounds: Vec::new(),
             cullable_boxes: Vec::new(),
@@ -248,8 +245,7 @@ impl GpuScene {
     /// The G-buffer's vertex buffers.
     pub fn raster_vertex_buffers(&self) -> RasterVertexBuffers<'_> {
         RasterVertexBuffers {
-            attributes: self.raster_attributes.buffer(),
-            triangles: self.raster_vertices.buffer(),
+            vertices: self.raster_vertices.buffer(),
             instances: self.instances.buffer(),
             instance_extras: self.instance_extras.buffer(),
         }
@@ -405,13 +401,17 @@ pub fn upload_gpu_scene(
     let meshes_changed = fresh || meshes.as_ref().is_some_and(|m| m.is_changed());
     if meshes_changed {
         let (vertices, indices, table) = gather::meshes(meshes_ref);
-        let (raster_vertices, raster_indices) =
+        let (raster_scene_vertices, raster_indices) =
             raster::raster_lists(&indices, vertices.len(), &table);
+        let raster_vertices = raster::raster_vertices(
+            (&raster_scene_vertices, &raster_indices),
+            &indices,
+            &table,
+            &vertices,
+        );
         put!(scene, stats, realloc, vertices, &vertices);
         put!(scene, stats, realloc, indices, &indices);
         put!(scene, stats, realloc, raster_vertices, &raster_vertices);
-        let attributes = raster::raster_attributes(&raster_vertices, &vertices);
-        put!(scene, stats, realloc, raster_attributes, &attributes);
         put!(scene, stats, realloc, raster_indices, &raster_indices);
         put!(scene, stats, realloc, meshes, &table);
         scene.closed_bounds = meshes_ref

@@ -1,48 +1,52 @@
 //! The G-buffer's vertex and index lists: indexed draws in which every triangle starts at a
 //! vertex of its own.
 //!
-//! The G-buffer's fragments need their triangle (its world-space corners give the geometric
-//! normal). A fragment takes flat attributes from its triangle's first (provoking) vertex, so
-//! if no two triangles share a first vertex, that vertex can carry the triangle's index. The
-//! lists here make it so: each raster vertex names a scene vertex and the triangle it starts;
-//! each triangle's corners are rotated (which keeps its winding) so that it starts at a corner
-//! no earlier triangle started at, and where all three are taken, at a copy of its first
-//! corner. The other corners reuse any raster vertex of their scene vertex.
+//! The G-buffer's fragments need their triangle's face (the geometric normal). A fragment takes
+//! flat attributes from its triangle's first (provoking) vertex, so if no two triangles share a
+//! first vertex, that vertex can carry its triangle's face. The lists here make it so: each
+//! triangle's corners are rotated (which keeps its winding) so that it starts at a corner no
+//! earlier triangle started at, and where all three are taken, at a copy of its first corner.
+//! The other corners reuse any raster vertex of their scene vertex.
 //!
 //! A closed mesh has about twice as many triangles as vertices, so about one raster vertex per
 //! triangle: a third of the vertex invocations of drawing three vertices per triangle, with no
 //! need for the primitive index (an optional feature, and costly where the driver must then
-//! assemble primitives one by one, as lavapipe's does).
+//! assemble primitives one by one, as lavapipe's does), and no fragment reading its triangle's
+//! corners.
 
 use bytemuck::{Pod, Zeroable};
+use glam::Vec3;
 
 use super::layout::{GpuMesh, GpuVertex};
 
-/// A vertex of the G-buffer's draws (the draw's index list points here). Its `triangle` is a
-/// vertex attribute of `gbuffer.wgsl`'s vertex stage; its scene vertex's attributes are the
-/// same element of a parallel vertex buffer ([`raster_attributes`]).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
-#[repr(C)]
+/// A vertex of the G-buffer's vertex buffer (the draws' index list points here): its scene
+/// vertex's attributes, and the face of the triangle that starts at it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+#[repr(C, align(16))]
 pub struct RasterVertex {
-    /// The scene vertex (an index into the scene's vertex buffer).
-    pub vertex: u32,
-    /// The triangle (an index within its mesh) that starts at this vertex; unused where none
-    /// does.
-    pub triangle: u32,
+    /// The scene vertex's attributes.
+    pub vertex: GpuVertex,
+    /// The front side of the triangle that starts at this vertex, in object space and not unit:
+    /// the cross product of its edges from its first corner, (p1 - p0) x (p2 - p0). Zero where
+    /// no triangle starts.
+    pub face: [f32; 3],
+    /// Padding, zero.
+    pub pad: f32,
 }
 
-/// The raster vertices and the raster index list for the scene's index list `indices` (global
-/// vertex indices, `vertex_count` vertices) and mesh table `meshes`. The index list is parallel
-/// to `indices`: triangle t of mesh m is at `meshes[m].index_base + 3 t`, its corners the same
-/// cycle of scene vertices, its first raster vertex its own.
+/// The raster lists for the scene's index list `indices` (global vertex indices, `vertex_count`
+/// vertices) and mesh table `meshes`: the scene vertex of each raster vertex, and the raster
+/// index list. The index list is parallel to `indices`: triangle t of mesh m is at
+/// `meshes[m].index_base + 3 t`, its corners the same cycle of scene vertices, its first raster
+/// vertex its own.
 pub fn raster_lists(
     indices: &[u32],
     vertex_count: usize,
     meshes: &[GpuMesh],
-) -> (Vec<RasterVertex>, Vec<u32>) {
+) -> (Vec<u32>, Vec<u32>) {
     /// No raster vertex yet.
     const NONE: u32 = u32::MAX;
-    let mut vertices: Vec<RasterVertex> = Vec::with_capacity(indices.len() / 3 + vertex_count);
+    let mut vertices: Vec<u32> = Vec::with_capacity(indices.len() / 3 + vertex_count);
     let mut raster_indices = vec![0; indices.len()];
     // Per scene vertex: its first raster vertex, and whether a triangle starts at it.
     let mut first = vec![NONE; vertex_count];
@@ -59,15 +63,12 @@ pub fn raster_lists(
                 let starts = j == 0;
                 raster_indices[at + j] = if starts && free.is_none() {
                     // Every corner starts a triangle already: a copy of this one.
-                    push(&mut vertices, v, t)
+                    push(&mut vertices, v)
                 } else {
                     if first[slot] == NONE {
-                        first[slot] = push(&mut vertices, v, 0);
+                        first[slot] = push(&mut vertices, v);
                     }
-                    if starts {
-                        started[slot] = true;
-                        vertices[first[slot] as usize].triangle = t;
-                    }
+                    started[slot] |= starts;
                     first[slot]
                 };
             }
@@ -76,15 +77,35 @@ pub fn raster_lists(
     (vertices, raster_indices)
 }
 
-/// The attributes of each raster vertex's scene vertex, in raster vertex order: the G-buffer's
-/// vertex buffer.
-pub fn raster_attributes(raster: &[RasterVertex], vertices: &[GpuVertex]) -> Vec<GpuVertex> {
-    raster.iter().map(|r| vertices[r.vertex as usize]).collect()
+/// The G-buffer's vertex buffer for the raster lists `(raster, raster_indices)` of
+/// [`raster_lists`] over `indices`, `meshes` and the scene vertices `vertices`.
+pub fn raster_vertices(
+    (raster, raster_indices): (&[u32], &[u32]),
+    indices: &[u32],
+    meshes: &[GpuMesh],
+    vertices: &[GpuVertex],
+) -> Vec<RasterVertex> {
+    let mut out: Vec<RasterVertex> = raster
+        .iter()
+        .map(|&v| RasterVertex {
+            vertex: vertices[v as usize],
+            ..RasterVertex::default()
+        })
+        .collect();
+    let position = |i: u32| Vec3::from(vertices[i as usize].position);
+    for mesh in meshes {
+        for t in 0..mesh.triangle_count {
+            let at = (mesh.index_base + 3 * t) as usize;
+            let [p0, p1, p2] = [at, at + 1, at + 2].map(|k| position(indices[k]));
+            out[raster_indices[at] as usize].face = (p1 - p0).cross(p2 - p0).to_array();
+        }
+    }
+    out
 }
 
-/// Appends a raster vertex; returns its index.
-fn push(vertices: &mut Vec<RasterVertex>, vertex: u32, triangle: u32) -> u32 {
-    vertices.push(RasterVertex { vertex, triangle });
+/// Appends a raster vertex of scene vertex `vertex`; returns its index.
+fn push(vertices: &mut Vec<u32>, vertex: u32) -> u32 {
+    vertices.push(vertex);
     (vertices.len() - 1) as u32
 }
 
@@ -103,7 +124,7 @@ mod tests {
                 let scene = [indices[at], indices[at + 1], indices[at + 2]];
                 let drawn: Vec<u32> = raster[at..at + 3]
                     .iter()
-                    .map(|&r| vertices[r as usize].vertex)
+                    .map(|&r| vertices[r as usize])
                     .collect();
                 let rotation = (0..3).find(|&k| (0..3).all(|j| drawn[j] == scene[(k + j) % 3]));
                 assert!(
@@ -111,7 +132,6 @@ mod tests {
                     "mesh {m} triangle {t}: {drawn:?} is not a rotation of {scene:?}"
                 );
                 let provoking = raster[at] as usize;
-                assert_eq!(vertices[provoking].triangle, t, "mesh {m} triangle {t}");
                 assert_eq!(
                     starts[provoking], None,
                     "two triangles start at raster vertex {provoking}"
@@ -160,6 +180,32 @@ mod tests {
         let meshes = [mesh(0, 2), mesh(6, 4)];
         let count = check(&indices, 8, &meshes);
         assert_eq!(count, 8 + 1);
+    }
+
+    #[test]
+    fn each_triangle_starts_at_a_vertex_carrying_its_face() {
+        // A unit square in the plane z = 0 as two triangles sharing the diagonal, the first
+        // facing +z, the second -z.
+        let vertices = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ]
+        .map(|position| GpuVertex {
+            position,
+            u0: position[0],
+            ..GpuVertex::default()
+        });
+        let indices = [0, 1, 2, 0, 3, 2];
+        let meshes = [mesh(0, 2)];
+        let (scene, raster) = raster_lists(&indices, vertices.len(), &meshes);
+        let drawn = raster_vertices((&scene, &raster), &indices, &meshes, &vertices);
+        assert_eq!(drawn[raster[0] as usize].face, [0.0, 0.0, 1.0]);
+        assert_eq!(drawn[raster[3] as usize].face, [0.0, 0.0, -1.0]);
+        for (r, &v) in drawn.iter().zip(&scene) {
+            assert_eq!(r.vertex, vertices[v as usize]);
+        }
     }
 
     #[test]

@@ -1,7 +1,7 @@
 //! `gbuffer`: rasterizes every instance (one indexed, instanced draw per run of consecutive
-//! instances of one mesh, over the raster lists of [`crate::gpu_scene::raster`]; vertices and
-//! instance transforms from vertex buffers, see [`VERTEX_LAYOUTS`]) into the G-buffer targets: position, normals, base colour,
-//! metallic, roughness, emission, instance id and motion vectors, plus depth (reversed: the
+//! instances of one mesh, over the raster lists of [`crate::gpu_scene::raster`]; vertices,
+//! faces and instance transforms from vertex buffers, see [`VERTEX_LAYOUTS`]) into the G-buffer
+//! targets: position, normals, base colour, metallic, roughness, emission, instance id and motion vectors, plus depth (reversed: the
 //! near plane at 1, infinitely far at 0; see [`crate::camera`]). A back face of a single-sided
 //! material is drawn and marked as not shading, as the CPU reference treats it, except in the
 //! instances whose back faces cannot be seen ([`crate::gpu_scene::back_faces`]), which are
@@ -120,12 +120,7 @@ impl GbufferPass {
         pass.set_bind_group(1, camera, &[]);
         pass.set_index_buffer(scene.raster_indices().slice(..), wgpu::IndexFormat::Uint32);
         let buffers = scene.raster_vertex_buffers();
-        let slots = [
-            buffers.attributes,
-            buffers.triangles,
-            buffers.instances,
-            buffers.instance_extras,
-        ];
+        let slots = [buffers.vertices, buffers.instances, buffers.instance_extras];
         for (slot, buffer) in (0..).zip(slots) {
             pass.set_vertex_buffer(slot, buffer.slice(..));
         }
@@ -194,32 +189,26 @@ const fn matrix_rows(offset: usize, location: u32) -> [wgpu::VertexAttribute; 3]
     ]
 }
 
-/// Locations 0 to 3: the scene vertex's position and u, normal and v, tangent, and UV set 1.
-const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 4] = [
-    attribute(
-        wgpu::VertexFormat::Float32x4,
-        offset_of!(GpuVertex, position),
-        0,
-    ),
-    attribute(
-        wgpu::VertexFormat::Float32x4,
-        offset_of!(GpuVertex, normal),
-        1,
-    ),
-    attribute(
-        wgpu::VertexFormat::Float32x4,
-        offset_of!(GpuVertex, tangent),
-        2,
-    ),
-    attribute(wgpu::VertexFormat::Float32x2, offset_of!(GpuVertex, uv1), 3),
-];
+/// Byte offset of `field` of the scene vertex in a [`RasterVertex`].
+macro_rules! vertex_offset {
+    ($field:ident) => {
+        offset_of!(RasterVertex, vertex) + offset_of!(GpuVertex, $field)
+    };
+}
 
-/// Location 4: the triangle that starts at the raster vertex.
-const TRIANGLE_ATTRIBUTE: [wgpu::VertexAttribute; 1] = [attribute(
-    wgpu::VertexFormat::Uint32,
-    offset_of!(RasterVertex, triangle),
-    4,
-)];
+/// Locations 0 to 3: the scene vertex's position and u, normal and v, tangent, and UV set 1;
+/// location 4: the face of the triangle that starts at the vertex.
+const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 5] = [
+    attribute(wgpu::VertexFormat::Float32x4, vertex_offset!(position), 0),
+    attribute(wgpu::VertexFormat::Float32x4, vertex_offset!(normal), 1),
+    attribute(wgpu::VertexFormat::Float32x4, vertex_offset!(tangent), 2),
+    attribute(wgpu::VertexFormat::Float32x2, vertex_offset!(uv1), 3),
+    attribute(
+        wgpu::VertexFormat::Float32x3,
+        offset_of!(RasterVertex, face),
+        4,
+    ),
+];
 
 /// Locations 5 to 10: the rows of world-to-object, then of object-to-world.
 const INSTANCE_ATTRIBUTES: [wgpu::VertexAttribute; 6] = {
@@ -240,19 +229,14 @@ const PREVIOUS_TRANSFORM_ATTRIBUTES: [wgpu::VertexAttribute; 3] =
     matrix_rows(offset_of!(GpuInstanceExtra, previous_object_to_world), 11);
 
 /// The G-buffer's vertex buffers, slot by slot ([`GpuScene::raster_vertex_buffers`]): per raster
-/// vertex its scene vertex's attributes and its [`RasterVertex`]; per instance its
-/// `GpuInstance` and its [`GpuInstanceExtra`]. The input assembler fetches them, so the vertex
-/// stage loads nothing from storage buffers (see [`crate::gpu_scene`] for what that saves).
-pub const VERTEX_LAYOUTS: [wgpu::VertexBufferLayout<'static>; 4] = [
-    wgpu::VertexBufferLayout {
-        array_stride: size_of::<GpuVertex>() as u64,
-        step_mode: wgpu::VertexStepMode::Vertex,
-        attributes: &VERTEX_ATTRIBUTES,
-    },
+/// vertex its [`RasterVertex`]; per instance its `GpuInstance` and its [`GpuInstanceExtra`].
+/// The input assembler fetches them, so the vertex stage loads nothing from storage buffers
+/// (see [`crate::gpu_scene`] for what that saves).
+pub const VERTEX_LAYOUTS: [wgpu::VertexBufferLayout<'static>; 3] = [
     wgpu::VertexBufferLayout {
         array_stride: size_of::<RasterVertex>() as u64,
         step_mode: wgpu::VertexStepMode::Vertex,
-        attributes: &TRIANGLE_ATTRIBUTE,
+        attributes: &VERTEX_ATTRIBUTES,
     },
     wgpu::VertexBufferLayout {
         array_stride: size_of::<GpuInstance>() as u64,
