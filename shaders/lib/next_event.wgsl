@@ -94,11 +94,11 @@ fn light_table_pick(u: f32, count: u32, table: u32) -> u32 {
         let mid = (lo + hi) / 2u;
         var cdf: f32;
         if table == TABLE_AREA {
-            cdf = scene_area_lights[mid].cdf;
+            cdf = scene_area_light(mid).cdf;
         } else if table == TABLE_DIRECTIONAL {
-            cdf = scene_lights[mid].directional_cdf;
+            cdf = scene_light(mid).directional_cdf;
         } else {
-            cdf = scene_lights[mid].cdf;
+            cdf = scene_light(mid).cdf;
         }
         if cdf <= u {
             lo = mid + 1u;
@@ -147,10 +147,10 @@ fn punctual_light(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
         let share = scene_info.directional_share;
         if !light_tree_sampling() || scene_info.punctual_tree == NO_INDEX {
             first = light_table_pick(u, count, TABLE_PUNCTUAL);
-            pmf = scene_lights[first].pmf;
+            pmf = scene_light(first).pmf;
         } else if u < share {
             first = light_table_pick(min(u / share, ONE_MINUS_EPSILON), count, TABLE_DIRECTIONAL);
-            pmf = scene_lights[first].pmf;
+            pmf = scene_light(first).pmf;
         } else {
             let u_tree = clamp((u - share) / (1.0 - share), 0.0, ONE_MINUS_EPSILON);
             let pick = light_tree_pick(scene_info.punctual_tree, s.position, s.frame.normal, u_tree);
@@ -164,7 +164,7 @@ fn punctual_light(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
         return total;
     }
     for (var i = 0u; i < n; i++) {
-        total += light_contribution(s, sample_punctual(scene_lights[first + i], s.position)).xyz;
+        total += light_contribution(s, sample_punctual(scene_light(first + i), s.position)).xyz;
     }
     return total / pmf;
 }
@@ -183,7 +183,7 @@ fn area_light(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
     var pmf: f32;
     if !light_tree_sampling() || scene_info.area_tree == NO_INDEX {
         index = light_table_pick(u_pick, count, TABLE_AREA);
-        pmf = scene_area_lights[index].pmf;
+        pmf = scene_area_light(index).pmf;
     } else if u_pick < share {
         index = count - 1u;
         pmf = share;
@@ -193,7 +193,7 @@ fn area_light(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
         index = pick.light;
         pmf = (1.0 - share) * pick.pmf;
     }
-    let entry = scene_area_lights[index];
+    let entry = scene_area_light(index);
     var ls = light_sample_none();
     if entry.instance == NO_INDEX {
         if FEATURE_ENVIRONMENT {
@@ -265,7 +265,7 @@ fn emission_reached(source: Shading, wi: vec3<f32>, hit: Hit, brdf_pdf: f32, wei
             pmf = (1.0 - scene_info.env_pmf)
                 * light_tree_pmf(leaf, source.position, source.frame.normal);
         } else if first != NO_INDEX {
-            pmf = scene_area_lights[first + hit.triangle].pmf;
+            pmf = scene_area_light(first + hit.triangle).pmf;
         }
         let light_pdf = pmf * triangle_solid_angle_pdf(t.v0, t.v1, t.v2, source.position, q);
         weight = power_heuristic(1.0, brdf_pdf, 1.0, light_pdf);

@@ -134,17 +134,38 @@ struct GpuLightTreeNode {
 @group(0) @binding(11) var<storage, read> scene_materials: array<GpuMaterial>;
 @group(0) @binding(12) var<storage, read> scene_texels: array<u32>;
 @group(0) @binding(13) var<storage, read> scene_textures: array<GpuTextureInfo>;
-@group(0) @binding(14) var<storage, read> scene_lights: array<GpuLight>;
-@group(0) @binding(15) var<storage, read> scene_area_lights: array<GpuAreaLight>;
+@group(0) @binding(14) var scene_light_texels: texture_2d<u32>;
+@group(0) @binding(15) var scene_area_light_texels: texture_2d<u32>;
 @group(0) @binding(16) var<storage, read> scene_instance_extras: array<GpuInstanceExtra>;
 @group(0) @binding(17) var<storage, read> scene_env_texels: array<vec4<f32>>;
 @group(0) @binding(18) var<storage, read> scene_env_table: array<f32>;
 @group(0) @binding(19) var<storage, read> scene_info: GpuSceneInfo;
-@group(0) @binding(20) var<storage, read> scene_light_tree: array<GpuLightTreeNode>;
+@group(0) @binding(20) var scene_light_tree_texels: texture_2d<u32>;
 
-// The hook lib/light_tree.wgsl reads its nodes through.
+// Punctual light i (4 texels).
+fn scene_light(i: u32) -> GpuLight {
+    let a = texel_array_load(scene_light_texels, 4u * i);
+    let b = texel_array_load(scene_light_texels, 4u * i + 1u);
+    let c = texel_array_load(scene_light_texels, 4u * i + 2u);
+    let d = bitcast<vec4<f32>>(texel_array_load(scene_light_texels, 4u * i + 3u));
+    return GpuLight(bitcast<vec3<f32>>(a.xyz), a.w, bitcast<vec3<f32>>(b.xyz), bitcast<f32>(b.w),
+        bitcast<vec3<f32>>(c.xyz), bitcast<f32>(c.w), d.x, d.y, d.z, d.w);
+}
+
+// Area-light table entry i (1 texel).
+fn scene_area_light(i: u32) -> GpuAreaLight {
+    let a = texel_array_load(scene_area_light_texels, i);
+    return GpuAreaLight(a.x, a.y, bitcast<f32>(a.z), bitcast<f32>(a.w));
+}
+
+// The hook lib/light_tree.wgsl reads its nodes through (4 texels a node).
 fn light_tree_node(i: u32) -> GpuLightTreeNode {
-    return scene_light_tree[i];
+    let a = texel_array_load(scene_light_tree_texels, 4u * i);
+    let b = texel_array_load(scene_light_tree_texels, 4u * i + 1u);
+    let c = texel_array_load(scene_light_tree_texels, 4u * i + 2u);
+    let d = texel_array_load(scene_light_tree_texels, 4u * i + 3u);
+    return GpuLightTreeNode(bitcast<vec3<f32>>(a.xyz), bitcast<f32>(a.w), bitcast<vec3<f32>>(b.xyz),
+        bitcast<f32>(b.w), bitcast<vec3<f32>>(c.xyz), bitcast<f32>(c.w), d.x, d.y, d.z, d.w);
 }
 
 // The environment image's importance table (chiaro_gpu::gpu_scene::gather::environment):

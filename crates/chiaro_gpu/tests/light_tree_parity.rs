@@ -172,20 +172,18 @@ fn gpu_walks_match_the_cpu_tree() {
                 }
             })
             .collect();
-        let bytes = kernel.run(
+        let bytes = kernel.run_with_texels(
             &gpu,
-            &[
-                Input {
-                    group: 0,
-                    binding: 20,
-                    data: bytemuck::cast_slice(&nodes),
-                },
-                Input {
-                    group: 1,
-                    binding: 0,
-                    data: bytemuck::cast_slice(&queries),
-                },
-            ],
+            &[Input {
+                group: 1,
+                binding: 0,
+                data: bytemuck::cast_slice(&queries),
+            }],
+            &[Input {
+                group: 0,
+                binding: 20,
+                data: bytemuck::cast_slice(&nodes),
+            }],
             &Output {
                 group: 1,
                 binding: 1,

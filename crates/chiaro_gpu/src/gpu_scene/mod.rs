@@ -1,7 +1,7 @@
 //! The scene on the GPU: one storage buffer per kind of data, or a texel array
-//! ([`MirrorTexels`]) for what the ray traversal reads (the BVH), bound as group(0) of every
-//! pass, kept in step with the ECS world by [`upload_gpu_scene`], which runs after the BVH
-//! systems and writes only what changed.
+//! ([`MirrorTexels`]) for what the ray traversal and the light sampling read (the BVH, the
+//! light tables and trees), bound as group(0) of every pass, kept in step with the ECS world by
+//! [`upload_gpu_scene`], which runs after the BVH systems and writes only what changed.
 //!
 //! Bindings of group(0) (`shaders/lib/bvh_bindings.wgsl` declares 0..4,
 //! `shaders/lib/scene_bindings.wgsl` the rest):
@@ -19,13 +19,13 @@
 //! | 11 | materials | [`GpuMaterial`] |
 //! | 12 | texels | `u32`, packed RGBA8 |
 //! | 13 | textures | [`GpuTextureInfo`] |
-//! | 14 | punctual lights | [`GpuLight`] |
-//! | 15 | area-light table | [`GpuAreaLight`] |
+//! | 14 | punctual lights (texels) | [`GpuLight`] |
+//! | 15 | area-light table (texels) | [`GpuAreaLight`] |
 //! | 16 | per-instance extras | [`GpuInstanceExtra`] |
 //! | 17 | environment texels | `vec4<f32>` |
 //! | 18 | environment importance table | `f32` |
 //! | 19 | scene info | [`GpuSceneInfo`] |
-//! | 20 | light tree nodes (area tree, then punctual) | [`GpuLightTreeNode`] |
+//! | 20 | light tree nodes (area tree, then punctual; texels) | [`GpuLightTreeNode`] |
 //!
 //! Textures live in one storage buffer of texels (an atlas in a buffer) rather than a texture
 //! array: an array needs every layer the same size (glTF textures differ, and resampling them
@@ -105,13 +105,13 @@ pub struct GpuScene {
     materials: MirrorBuffer<GpuMaterial>,
     texels: MirrorBuffer<u32>,
     textures: MirrorBuffer<GpuTextureInfo>,
-    lights: MirrorBuffer<GpuLight>,
-    area_lights: MirrorBuffer<GpuAreaLight>,
+    lights: MirrorTexels<GpuLight>,
+    area_lights: MirrorTexels<GpuAreaLight>,
     instance_extras: MirrorBuffer<GpuInstanceExtra>,
     env_texels: MirrorBuffer<[f32; 4]>,
     env_table: MirrorBuffer<f32>,
     info_buffer: MirrorBuffer<GpuSceneInfo>,
-    light_tree: MirrorBuffer<GpuLightTreeNode>,
+    light_tree: MirrorTexels<GpuLightTreeNode>,
     area_tree: FlatTree,
     punctual_tree: FlatTree,
     /// The scene info as uploaded.
@@ -135,10 +135,10 @@ const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE;
 const VERTEX: wgpu::BufferUsages = wgpu::BufferUsages::VERTEX;
 
 /// The bindings of group(0) that are texel arrays (`Rgba32Uint` textures), in order.
-const TEXEL_BINDINGS: [u32; 4] = [0, 1, 2, 4];
+const TEXEL_BINDINGS: [u32; 7] = [0, 1, 2, 4, 14, 15, 20];
 
 /// The bindings of group(0) that are read-only storage buffers, in order.
-const BUFFER_BINDINGS: [u32; 14] = [3, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20];
+const BUFFER_BINDINGS: [u32; 11] = [3, 8, 9, 10, 11, 12, 13, 16, 17, 18, 19];
 
 impl GpuScene {
     /// Empty buffers on `context`'s device; the first [`upload_gpu_scene`] fills them.
@@ -191,13 +191,13 @@ impl GpuScene {
             materials: MirrorBuffer::new(d, "scene materials", STORAGE),
             texels: MirrorBuffer::new(d, "scene texels", STORAGE),
             textures: MirrorBuffer::new(d, "scene textures", STORAGE),
-            lights: MirrorBuffer::new(d, "scene lights", STORAGE),
-            area_lights: MirrorBuffer::new(d, "scene area lights", STORAGE),
+            lights: MirrorTexels::new(d, "scene lights"),
+            area_lights: MirrorTexels::new(d, "scene area lights"),
             instance_extras: MirrorBuffer::new(d, "scene instance extras", STORAGE | VERTEX),
             env_texels: MirrorBuffer::new(d, "scene environment texels", STORAGE),
             env_table: MirrorBuffer::new(d, "scene environment table", STORAGE),
             info_buffer: MirrorBuffer::new(d, "scene info", STORAGE),
-            light_tree: MirrorBuffer::new(d, "scene light tree", STORAGE),
+            light_tree: MirrorTexels::new(d, "scene light tree"),
             area_tree: FlatTree::default(),
             punctual_tree: FlatTree::default(),
             info: GpuSceneInfo::default(),
@@ -269,26 +269,32 @@ impl GpuScene {
         &self.mesh_runs
     }
 
-    fn texel_views(&self) -> [&wgpu::TextureView; 4] {
+    fn texel_views(&self) -> [&wgpu::TextureView; 7] {
         [
             self.blas_nodes.view(),
             self.triangles.view(),
             self.tlas_nodes.view(),
             self.instance_texels.view(),
+            self.lights.view(),
+            self.area_lights.view(),
+            self.light_tree.view(),
         ]
     }
 
-    /// Why the scene is not on the GPU whole: a BVH array larger than the device's largest
-    /// texture.
+    /// Why the scene is not on the GPU whole: a BVH array or light table larger than the
+    /// device's largest texture.
     pub fn overflow(&self) -> Option<&TexelOverflow> {
         self.blas_nodes
             .overflow()
             .or(self.triangles.overflow())
             .or(self.tlas_nodes.overflow())
             .or(self.instance_texels.overflow())
+            .or(self.lights.overflow())
+            .or(self.area_lights.overflow())
+            .or(self.light_tree.overflow())
     }
 
-    fn buffers(&self) -> [&wgpu::Buffer; 14] {
+    fn buffers(&self) -> [&wgpu::Buffer; 11] {
         [
             self.instances.buffer(),
             self.vertices.buffer(),
@@ -297,13 +303,10 @@ impl GpuScene {
             self.materials.buffer(),
             self.texels.buffer(),
             self.textures.buffer(),
-            self.lights.buffer(),
-            self.area_lights.buffer(),
             self.instance_extras.buffer(),
             self.env_texels.buffer(),
             self.env_table.buffer(),
             self.info_buffer.buffer(),
-            self.light_tree.buffer(),
         ]
     }
 
@@ -478,7 +481,7 @@ pub fn upload_gpu_scene(
                 FlatTree::default()
             };
         }
-        put!(scene, stats, realloc, lights, &table);
+        put_texels!(scene, stats, realloc, lights, &table);
     }
     let area_changed = bvh_changed || materials_changed || env_changed;
     if area_changed {
@@ -489,7 +492,7 @@ pub fn upload_gpu_scene(
         scene.area_first = first;
         let bounds: Vec<_> = bounds.into_iter().map(Some).collect();
         scene.area_tree = FlatTree::build(&bounds);
-        put!(scene, stats, realloc, area_lights, &table);
+        put_texels!(scene, stats, realloc, area_lights, &table);
     }
     if fresh || lights_changed || area_changed {
         let (nodes, area_root, punctual_root) =
@@ -497,7 +500,7 @@ pub fn upload_gpu_scene(
         info.area_tree = area_root;
         info.punctual_tree = punctual_root;
         info.area_leaves = scene.area_tree.leaf(0);
-        put!(scene, stats, realloc, light_tree, &nodes);
+        put_texels!(scene, stats, realloc, light_tree, &nodes);
     }
     // The per-instance extras change when the BVH or the area lights do, and once more the
     // frame after an instance moved (its previous transform catches up); otherwise this
