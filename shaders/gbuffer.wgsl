@@ -1,9 +1,9 @@
 // The G-buffer: the scene rasterized in indexed draws over the raster lists
 // (chiaro_gpu::gpu_scene::raster: each triangle starts at a vertex of its own, which carries the
-// triangle's face), one instanced draw per run of consecutive instances of one mesh (instance_index is
-// the instance's index in bvh_instances). The vertex stage's inputs are vertex buffers
-// (chiaro_gpu::passes::gbuffer::VERTEX_LAYOUTS), not storage loads, which lavapipe runs as a
-// gather per vertex.
+// triangle's face), one instanced draw per run of consecutive instances of one mesh
+// (instance_index is the instance's index in bvh_instances). The vertex stage's inputs are
+// vertex buffers (chiaro_gpu::passes::gbuffer::VERTEX_LAYOUTS), not storage loads, which
+// lavapipe runs lane by lane, one word at a time.
 // Per pixel: world position, geometric and shading normals (octahedral, Cigolle et al., "A
 // Survey of Efficient Representations for Independent Unit Vectors", JCGT 3(2), 2014), base
 // colour, metallic, roughness, emission, instance id and the motion vector; depth in the depth

@@ -41,9 +41,10 @@
 //!
 //! The G-buffer's vertex stage reads no storage buffer: its vertices, their triangles' faces
 //! and the instances' transforms come through vertex buffers ([`RasterVertexBuffers`]), which the
-//! input assembler fetches. On lavapipe a storage load in the vertex stage costs a gather per
-//! vertex even where every vertex of the draw reads the same instance; the fixed-function fetch
-//! cut the G-buffer of a 1M-triangle scene at 256x256 from 550 to 140 ms.
+//! input assembler fetches. On lavapipe a storage load in the vertex stage is a loop over the
+//! SIMD lanes, one word at a time, even where every vertex of the draw reads the same instance;
+//! the fixed-function fetch cut the G-buffer of a 1M-triangle scene at 256x256 from 573 to 128 ms
+//! (BENCHMARKS.md, "Storage loads on lavapipe").
 
 pub mod back_faces;
 mod gather;

@@ -1,11 +1,11 @@
 //! `gbuffer`: rasterizes every instance (one indexed, instanced draw per run of consecutive
-//! instances of one mesh, over the raster lists of [`crate::gpu_scene::raster`]; vertices,
-//! faces and instance transforms from vertex buffers, see [`VERTEX_LAYOUTS`]) into the G-buffer
-//! targets: position, normals, base colour, metallic, roughness, emission, instance id and motion vectors, plus depth (reversed: the
-//! near plane at 1, infinitely far at 0; see [`crate::camera`]). A back face of a single-sided
-//! material is drawn and marked as not shading, as the CPU reference treats it, except in the
-//! instances whose back faces cannot be seen ([`crate::gpu_scene::back_faces`]), which are
-//! drawn with a pipeline that culls them.
+//! instances of one mesh, over the raster lists of [`crate::gpu_scene::raster`]; vertices, faces
+//! and instance transforms from vertex buffers, see [`VERTEX_LAYOUTS`]) into the G-buffer targets:
+//! position, normals, base colour, metallic, roughness, emission, instance id and motion vectors,
+//! plus depth (reversed: the near plane at 1, infinitely far at 0; see [`crate::camera`]). A back
+//! face of a single-sided material is drawn and marked as not shading, as the CPU reference treats
+//! it, except in the instances whose back faces cannot be seen ([`crate::gpu_scene::back_faces`]),
+//! which are drawn with a pipeline that culls them.
 
 use std::mem::offset_of;
 use std::ops::Range;
