@@ -140,13 +140,13 @@ const RESOLVE_MOVING_FLOOR: f32 = 0.3;
 // Luminance ratio from which the history of another surface is left out under motion.
 const RESOLVE_OTHER_SURFACE_CONTRAST: f32 = 8.0;
 
-// Whether a history texel (colour `history`, seen on `history_surface`) may stand for a pixel
-// that sees `surface` with luminance `lum`: it saw the same surface, or one of a luminance
-// within RESOLVE_OTHER_SURFACE_CONTRAST of it.
-fn resolve_compatible(history: vec4<f32>, history_surface: u32, surface: u32, lum: f32) -> bool {
+// Whether history texel `q` (colour `history`) may stand for a pixel that sees `surface` with
+// luminance `lum`: it saw the same surface, or one of a luminance within
+// RESOLVE_OTHER_SURFACE_CONTRAST of it.
+fn resolve_compatible(q: vec2<i32>, history: vec4<f32>, surface: u32, lum: f32) -> bool {
     let h = max(luminance(history.xyz), 0.0) + 1e-3;
     let l = max(lum, 0.0) + 1e-3;
-    return history_surface == surface
+    return textureLoad(resolve_previous_surface, q, 0).x == surface
         || max(h, l) < RESOLVE_OTHER_SURFACE_CONTRAST * min(h, l);
 }
 
@@ -192,8 +192,7 @@ fn resolve_history(at: vec2<f32>, size: vec2<i32>, surface: u32, lum: f32, other
             let o = vec2<i32>(k & 3, k >> 2u);
             let q = base - 1 + o;
             let h = textureLoad(resolve_previous, q, 0);
-            let h_surface = textureLoad(resolve_previous_surface, q, 0).x;
-            same = same && resolve_compatible(h, h_surface, surface, lum);
+            same = same && resolve_compatible(q, h, surface, lum);
             sum += wx[o.x] * wy[o.y] * h;
         }
         if same {
@@ -208,9 +207,7 @@ fn resolve_history(at: vec2<f32>, size: vec2<i32>, surface: u32, lum: f32, other
         let w = select(1.0 - t.x, t.x, o.x == 1) * select(1.0 - t.y, t.y, o.y == 1);
         if all(q >= vec2<i32>(0)) && all(q < size) && w > 0.0 {
             let h = textureLoad(resolve_previous, q, 0);
-            let h_surface = textureLoad(resolve_previous_surface, q, 0).x;
-            let compatible = resolve_compatible(h, h_surface, surface, lum);
-            let w_surface = w * select(other, 1.0, compatible);
+            let w_surface = w * select(other, 1.0, resolve_compatible(q, h, surface, lum));
             sum += w_surface * h;
             total += w_surface;
         }
