@@ -137,8 +137,8 @@ struct GpuLightTreeNode {
 @group(0) @binding(14) var scene_light_texels: texture_2d<u32>;
 @group(0) @binding(15) var scene_area_light_texels: texture_2d<u32>;
 @group(0) @binding(16) var<storage, read> scene_instance_extras: array<GpuInstanceExtra>;
-@group(0) @binding(17) var<storage, read> scene_env_texels: array<vec4<f32>>;
-@group(0) @binding(18) var<storage, read> scene_env_table: array<f32>;
+@group(0) @binding(17) var scene_env_texels: texture_2d<u32>;
+@group(0) @binding(18) var scene_env_table_texels: texture_2d<u32>;
 @group(0) @binding(19) var<storage, read> scene_info: GpuSceneInfo;
 @group(0) @binding(20) var scene_light_tree_texels: texture_2d<u32>;
 
@@ -170,27 +170,33 @@ fn light_tree_node(i: u32) -> GpuLightTreeNode {
 
 // The environment image's importance table (chiaro_gpu::gpu_scene::gather::environment):
 // marginal CDF at 0 (height + 1), marginal masses at height + 1, conditional CDFs at
-// 2 height + 1 (width + 1 per row), conditional masses after them (width per row).
+// 2 height + 1 (width + 1 per row), conditional masses after them (width per row); entry i
+// is component i % 4 of texel i / 4. Both are texel arrays: every environment sample walks
+// the table, and lavapipe loads a storage word lane by lane.
 fn env_texel(column: u32, row: u32) -> vec3<f32> {
-    return scene_env_texels[row * scene_info.env_width + column].xyz;
+    return bitcast<vec3<f32>>(texel_array_load(scene_env_texels, row * scene_info.env_width + column).xyz);
+}
+
+fn scene_env_table(i: u32) -> f32 {
+    return bitcast<f32>(texel_array_load(scene_env_table_texels, i >> 2u)[i & 3u]);
 }
 
 fn env_marginal_cdf(i: u32) -> f32 {
-    return scene_env_table[i];
+    return scene_env_table(i);
 }
 
 fn env_marginal_pmf(row: u32) -> f32 {
-    return scene_env_table[scene_info.env_height + 1u + row];
+    return scene_env_table(scene_info.env_height + 1u + row);
 }
 
 fn env_conditional_cdf(row: u32, i: u32) -> f32 {
-    return scene_env_table[2u * scene_info.env_height + 1u + row * (scene_info.env_width + 1u) + i];
+    return scene_env_table(2u * scene_info.env_height + 1u + row * (scene_info.env_width + 1u) + i);
 }
 
 fn env_conditional_pmf(row: u32, column: u32) -> f32 {
     let h = scene_info.env_height;
     let w = scene_info.env_width;
-    return scene_env_table[2u * h + 1u + h * (w + 1u) + row * w + column];
+    return scene_env_table(2u * h + 1u + h * (w + 1u) + row * w + column);
 }
 
 // The three global vertex indices of triangle `triangle` of mesh `mesh`.

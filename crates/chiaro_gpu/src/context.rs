@@ -10,11 +10,11 @@ use std::fmt::Write as _;
 
 use thiserror::Error;
 
-/// Storage buffers one shader stage binds: the scene's group(0) (11: instances, geometry,
-/// materials, textures, instance extras, environment, scene info; the BVH's arrays and the
-/// light tables are textures) plus a pass's own (the ray passes: camera and parameters;
+/// Storage buffers one shader stage binds: the scene's group(0) (9: instances, geometry,
+/// materials, textures, instance extras, scene info; the BVH's arrays, the light tables and
+/// the environment are textures) plus a pass's own (the ray passes: camera and parameters;
 /// parameters are storage buffers too, see [`crate::passes::params`]).
-pub const STORAGE_BUFFERS_PER_STAGE: u32 = 13;
+pub const STORAGE_BUFFERS_PER_STAGE: u32 = 11;
 
 /// Why no device could be made.
 #[derive(Debug, Error)]

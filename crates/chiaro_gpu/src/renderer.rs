@@ -38,7 +38,7 @@ pub enum RenderError {
     /// Nothing was rendered yet.
     #[error("nothing was rendered yet")]
     NotRendered,
-    /// The scene's BVH or light tables do not fit the device's largest texture.
+    /// The scene's BVH, light tables or environment do not fit the device's largest texture.
     #[error("the scene is too large for this device: {0}")]
     SceneTooLarge(#[from] crate::gpu_scene::TexelOverflow),
     /// The image size is zero or beyond the device's limit.

@@ -353,15 +353,24 @@ fn distribution_1d(weights: &[f32]) -> Option<(Vec<f32>, Vec<f32>)> {
     Some((cdf, pmf))
 }
 
+/// `values` four to a texel, the last texel padded with zeros.
+fn four_to_a_texel(values: &[f32]) -> Vec<[f32; 4]> {
+    values
+        .chunks(4)
+        .map(|c| std::array::from_fn(|k| c.get(k).copied().unwrap_or(0.0)))
+        .collect()
+}
+
 /// The environment: its texels (radiance x strength, `w` zero), its importance table and the
 /// header fields of [`GpuSceneInfo`]. The table holds chiaro_shading's `Distribution2D` over
 /// luminance x sin(theta) as arrays, for a `width` w x `height` h image: the marginal CDF
 /// (h + 1 entries) at 0, the marginal masses (h) at h + 1, the conditional CDFs (w + 1 per
-/// row) at 2h + 1, then the conditional masses (w per row) at 2h + 1 + h (w + 1).
+/// row) at 2h + 1, then the conditional masses (w per row) at 2h + 1 + h (w + 1); entry `i` is
+/// component `i % 4` of texel `i / 4` (the last texel padded with zeros).
 pub fn environment(
     environment: &Environment,
     info: &mut GpuSceneInfo,
-) -> (Vec<[f32; 4]>, Vec<f32>) {
+) -> (Vec<[f32; 4]>, Vec<[f32; 4]>) {
     let strength = if environment.strength.is_finite() && environment.strength > 0.0 {
         environment.strength
     } else {
@@ -434,7 +443,7 @@ pub fn environment(
             table.extend(marginal_pmf);
             table.extend(cdfs);
             table.extend(pmfs);
-            (packed, table)
+            (packed, four_to_a_texel(&table))
         }
     }
 }
@@ -448,6 +457,17 @@ mod tests {
         let runs = mesh_runs([4, 4, 4, 1, 4, 4, 2].into_iter());
         assert_eq!(runs, vec![(4, 0..3), (1, 3..4), (4, 4..6), (2, 6..7)]);
         assert!(mesh_runs(std::iter::empty()).is_empty());
+    }
+
+    #[test]
+    fn four_values_to_a_texel_in_order_the_last_padded() {
+        let values: Vec<f32> = (1..=6).map(|i| i as f32).collect();
+        assert_eq!(
+            four_to_a_texel(&values),
+            vec![[1.0, 2.0, 3.0, 4.0], [5.0, 6.0, 0.0, 0.0]]
+        );
+        assert_eq!(four_to_a_texel(&values[..4]).len(), 1);
+        assert!(four_to_a_texel(&[]).is_empty());
     }
 
     #[test]

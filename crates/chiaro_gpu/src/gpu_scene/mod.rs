@@ -1,6 +1,6 @@
 //! The scene on the GPU: one storage buffer per kind of data, or a texel array
 //! ([`MirrorTexels`]) for what the ray traversal and the light sampling read (the BVH, the
-//! light tables and trees), bound as group(0) of every pass, kept in step with the ECS world by
+//! light tables and trees, the environment and its importance table), bound as group(0) of every pass, kept in step with the ECS world by
 //! [`upload_gpu_scene`], which runs after the BVH systems and writes only what changed.
 //!
 //! Bindings of group(0) (`shaders/lib/bvh_bindings.wgsl` declares 0..4,
@@ -22,8 +22,8 @@
 //! | 14 | punctual lights (texels) | [`GpuLight`] |
 //! | 15 | area-light table (texels) | [`GpuAreaLight`] |
 //! | 16 | per-instance extras | [`GpuInstanceExtra`] |
-//! | 17 | environment texels | `vec4<f32>` |
-//! | 18 | environment importance table | `f32` |
+//! | 17 | environment texels (texels) | `[f32; 4]`, radiance in `xyz` |
+//! | 18 | environment importance table (texels) | `f32`, four to a texel |
 //! | 19 | scene info | [`GpuSceneInfo`] |
 //! | 20 | light tree nodes (area tree, then punctual; texels) | [`GpuLightTreeNode`] |
 //!
@@ -109,8 +109,8 @@ pub struct GpuScene {
     lights: MirrorTexels<GpuLight>,
     area_lights: MirrorTexels<GpuAreaLight>,
     instance_extras: MirrorBuffer<GpuInstanceExtra>,
-    env_texels: MirrorBuffer<[f32; 4]>,
-    env_table: MirrorBuffer<f32>,
+    env_texels: MirrorTexels<[f32; 4]>,
+    env_table: MirrorTexels<[f32; 4]>,
     info_buffer: MirrorBuffer<GpuSceneInfo>,
     light_tree: MirrorTexels<GpuLightTreeNode>,
     area_tree: FlatTree,
@@ -136,10 +136,10 @@ const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE;
 const VERTEX: wgpu::BufferUsages = wgpu::BufferUsages::VERTEX;
 
 /// The bindings of group(0) that are texel arrays (`Rgba32Uint` textures), in order.
-const TEXEL_BINDINGS: [u32; 7] = [0, 1, 2, 4, 14, 15, 20];
+const TEXEL_BINDINGS: [u32; 9] = [0, 1, 2, 4, 14, 15, 17, 18, 20];
 
 /// The bindings of group(0) that are read-only storage buffers, in order.
-const BUFFER_BINDINGS: [u32; 11] = [3, 8, 9, 10, 11, 12, 13, 16, 17, 18, 19];
+const BUFFER_BINDINGS: [u32; 9] = [3, 8, 9, 10, 11, 12, 13, 16, 19];
 
 impl GpuScene {
     /// Empty buffers on `context`'s device; the first [`upload_gpu_scene`] fills them.
@@ -195,8 +195,8 @@ impl GpuScene {
             lights: MirrorTexels::new(d, "scene lights"),
             area_lights: MirrorTexels::new(d, "scene area lights"),
             instance_extras: MirrorBuffer::new(d, "scene instance extras", STORAGE | VERTEX),
-            env_texels: MirrorBuffer::new(d, "scene environment texels", STORAGE),
-            env_table: MirrorBuffer::new(d, "scene environment table", STORAGE),
+            env_texels: MirrorTexels::new(d, "scene environment texels"),
+            env_table: MirrorTexels::new(d, "scene environment table"),
             info_buffer: MirrorBuffer::new(d, "scene info", STORAGE),
             light_tree: MirrorTexels::new(d, "scene light tree"),
             area_tree: FlatTree::default(),
@@ -270,7 +270,7 @@ impl GpuScene {
         &self.mesh_runs
     }
 
-    fn texel_views(&self) -> [&wgpu::TextureView; 7] {
+    fn texel_views(&self) -> [&wgpu::TextureView; 9] {
         [
             self.blas_nodes.view(),
             self.triangles.view(),
@@ -278,12 +278,14 @@ impl GpuScene {
             self.instance_texels.view(),
             self.lights.view(),
             self.area_lights.view(),
+            self.env_texels.view(),
+            self.env_table.view(),
             self.light_tree.view(),
         ]
     }
 
-    /// Why the scene is not on the GPU whole: a BVH array or light table larger than the
-    /// device's largest texture.
+    /// Why the scene is not on the GPU whole: a BVH array, light table or environment array
+    /// larger than the device's largest texture.
     pub fn overflow(&self) -> Option<&TexelOverflow> {
         self.blas_nodes
             .overflow()
@@ -293,9 +295,11 @@ impl GpuScene {
             .or(self.lights.overflow())
             .or(self.area_lights.overflow())
             .or(self.light_tree.overflow())
+            .or(self.env_texels.overflow())
+            .or(self.env_table.overflow())
     }
 
-    fn buffers(&self) -> [&wgpu::Buffer; 11] {
+    fn buffers(&self) -> [&wgpu::Buffer; 9] {
         [
             self.instances.buffer(),
             self.vertices.buffer(),
@@ -305,8 +309,6 @@ impl GpuScene {
             self.texels.buffer(),
             self.textures.buffer(),
             self.instance_extras.buffer(),
-            self.env_texels.buffer(),
-            self.env_table.buffer(),
             self.info_buffer.buffer(),
         ]
     }
@@ -461,8 +463,8 @@ pub fn upload_gpu_scene(
     let mut info = scene.info;
     if env_changed {
         let (texels, table) = gather::environment(environment_ref, &mut info);
-        put!(scene, stats, realloc, env_texels, &texels);
-        put!(scene, stats, realloc, env_table, &table);
+        put_texels!(scene, stats, realloc, env_texels, &texels);
+        put_texels!(scene, stats, realloc, env_table, &table);
     }
     let lights_edited = fresh || !changed_lights.is_empty() || removed_lights.read().count() > 0;
     // The table also follows the scene's radius (a directional light's power); the tree, only
