@@ -1,7 +1,8 @@
 //! The scene on the GPU: one storage buffer per kind of data, or a texel array
 //! ([`MirrorTexels`]) for what the ray traversal and the light sampling read (the BVH, the
-//! light tables and trees, the environment and its importance table), bound as group(0) of every pass, kept in step with the ECS world by
-//! [`upload_gpu_scene`], which runs after the BVH systems and writes only what changed.
+//! light tables and trees, the environment and its importance table), bound as group(0) of
+//! every pass, kept in step with the ECS world by [`upload_gpu_scene`], which runs after the
+//! BVH systems and writes only what changed.
 //!
 //! Bindings of group(0) (`shaders/lib/bvh_bindings.wgsl` declares 0..4,
 //! `shaders/lib/scene_bindings.wgsl` the rest):
