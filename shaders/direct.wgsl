@@ -95,7 +95,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         let index = id.y * size.x + id.x;
         let seed = vec2<u32>(params.seed_lo, params.seed_hi);
         var rng = pcg32_new(seed, vec2<u32>(index, params.frame));
-        // next_event's two halves, in its order.
+        // Every punctual light (or one picked), then one area-light sample.
         punctual = punctual_light(s, &rng);
         let area = area_light(s, &rng);
         let brdf = brdf_light(s, first_bounce_numbers(seed, index, params.frame), &first);

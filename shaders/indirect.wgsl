@@ -5,10 +5,11 @@
 // Default (realtime and reference modes): the path leaves the primary surface x0 by BRDF
 // importance sampling (GGX visible normals: Heitz, "Sampling the GGX Distribution of Visible
 // Normals", JCGT 7(4), 2018, through brdf_sample); at each further vertex x1 .. x_bounces it
-// adds next-event estimation (punctual lights and one area-light or environment sample) and
-// the emission or environment that the next BRDF-sampled ray reaches, the two combined by
-// multiple importance sampling with the power heuristic (Veach, "Robust Monte Carlo Methods
-// for Light Transport Simulation", PhD thesis, Stanford, 1997, chapter 9). The emission the
+// adds next-event estimation (one light: a punctual light or an area-light or environment
+// sample, lib/next_event.wgsl's next_event) and the emission or environment that the next
+// BRDF-sampled ray reaches, the two combined by multiple importance sampling with the power
+// heuristic (Veach, "Robust Monte Carlo Methods for Light Transport Simulation", PhD thesis,
+// Stanford, 1997, chapter 9). The emission the
 // primary vertex's own BRDF ray reaches, and the light sampled at x0, are the direct pass's.
 // So direct + indirect with `bounces` = b is chiaro_reference's path tracer with max_depth
 // b + 1 (scattering at x0 .. x_b, emission reached up to x_(b+1)).

@@ -2,12 +2,13 @@
 // sampling with the power heuristic (Veach and Guibas, "Optimally Combining Sampling
 // Techniques for Monte Carlo Rendering", SIGGRAPH 1995; Veach, 1997, thesis, chapter 9):
 //
-// - next-event estimation: every punctual light (or one picked when there are more than
-//   ALL_PUNCTUAL_LIGHTS_MAX) and one sample of the area-light table (an emissive triangle or
-//   the environment), each with one shadow ray, the area sample weighted against BRDF
-//   sampling;
+// - next-event estimation, each light sample with one shadow ray, an area-light sample
+//   weighted against BRDF sampling: at the primary surface (the direct pass), every punctual
+//   light (or one picked when there are more than ALL_PUNCTUAL_LIGHTS_MAX) and one sample of
+//   the area-light table (an emissive triangle or the environment); at the path's further
+//   vertices (next_event), one light, a punctual light or an area-light sample;
 // - emission_reached: the emission or environment that a BRDF-sampled ray reaches, weighted
-//   against the chance that the area-light sample would have produced it.
+//   against the chance that the area-light sampling would have produced it.
 //
 // A light is picked by power alone, or, when the importer's light_tree_sampling() says so,
 // through the light trees (lib/light_tree.wgsl) by its importance to the shading point (its
@@ -31,6 +32,7 @@
 #import lib/surface.wgsl
 #import lib/features.wgsl
 #import lib/light_tree.wgsl
+#import lib/color.wgsl
 
 // The CDFs light_table_pick searches: the punctual lights' by power, the area table's, and the
 // directional lights' among themselves (GpuLight::directional_cdf).
@@ -130,10 +132,32 @@ fn punctual_lights_all_evaluated() -> bool {
     return scene_info.light_count <= ALL_PUNCTUAL_LIGHTS_MAX;
 }
 
-// Every punctual light when there are few, else one picked (over its probability): by power,
-// or a directional light by power with their share and else a point or spot light by the tree.
-// Either way one loop casts the shadow rays (lib/bvh.wgsl says why lavapipe wants each trace
-// in one place).
+// A punctual light picked with the number u, and the probability of the pick: by power, or a
+// directional light by power with their share and else a point or spot light by the tree.
+struct PunctualPick {
+    light: u32,
+    pmf: f32,
+}
+
+fn punctual_pick(s: Shading, u: f32) -> PunctualPick {
+    let count = scene_info.light_count;
+    let share = scene_info.directional_share;
+    if !light_tree_sampling() || scene_info.punctual_tree == NO_INDEX {
+        let first = light_table_pick(u, count, TABLE_PUNCTUAL);
+        return PunctualPick(first, scene_light(first).pmf);
+    }
+    if u < share {
+        let first = light_table_pick(min(u / share, ONE_MINUS_EPSILON), count, TABLE_DIRECTIONAL);
+        return PunctualPick(first, scene_light(first).pmf);
+    }
+    let u_tree = clamp((u - share) / (1.0 - share), 0.0, ONE_MINUS_EPSILON);
+    let pick = light_tree_pick(scene_info.punctual_tree, s.position, s.frame.normal, u_tree);
+    return PunctualPick(pick.light, (1.0 - share) * pick.pmf);
+}
+
+// Every punctual light when there are few, else one picked (punctual_pick), over its
+// probability. Either way one loop casts the shadow rays (lib/bvh.wgsl says why lavapipe wants
+// each trace in one place).
 fn punctual_light(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
     let count = scene_info.light_count;
     let any_kind = FEATURE_POINT_LIGHTS || FEATURE_SPOT_LIGHTS || FEATURE_DIRECTIONAL_LIGHTS;
@@ -143,20 +167,9 @@ fn punctual_light(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
     var pmf = 1.0;
     if !punctual_lights_all_evaluated() {
         // Drawn whatever the features, so that the random numbers after it stay the same.
-        let u = pcg32_next_f32(rng);
-        let share = scene_info.directional_share;
-        if !light_tree_sampling() || scene_info.punctual_tree == NO_INDEX {
-            first = light_table_pick(u, count, TABLE_PUNCTUAL);
-            pmf = scene_light(first).pmf;
-        } else if u < share {
-            first = light_table_pick(min(u / share, ONE_MINUS_EPSILON), count, TABLE_DIRECTIONAL);
-            pmf = scene_light(first).pmf;
-        } else {
-            let u_tree = clamp((u - share) / (1.0 - share), 0.0, ONE_MINUS_EPSILON);
-            let pick = light_tree_pick(scene_info.punctual_tree, s.position, s.frame.normal, u_tree);
-            first = pick.light;
-            pmf = (1.0 - share) * pick.pmf;
-        }
+        let pick = punctual_pick(s, pcg32_next_f32(rng));
+        first = pick.light;
+        pmf = pick.pmf;
         n = 1u;
     }
     var total = vec3<f32>(0.0);
@@ -169,14 +182,21 @@ fn punctual_light(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
     return total / pmf;
 }
 
-// One sample of the area-light table, weighted against BRDF sampling: the entry picked by
-// power, or the environment (the last entry) with its share and else a triangle by the tree.
-fn area_light(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
+// One sample of the area-light table (an emissive triangle or the environment), not yet
+// traced, and the probability of its entry: the entry picked by power, or the environment (the
+// last entry) with its share and else a triangle by the tree. No sample (valid false) when the
+// table is empty.
+struct AreaSample {
+    sample: LightSample,
+    pmf: f32,
+}
+
+fn area_light_sample(s: Shading, rng: ptr<function, Pcg32>) -> AreaSample {
     let count = scene_info.area_count;
     let u_pick = pcg32_next_f32(rng);
     let u = pcg32_next_vec2(rng);
     if count == 0u {
-        return vec3<f32>(0.0);
+        return AreaSample(light_sample_none(), 1.0);
     }
     let share = scene_info.env_pmf;
     var index: u32;
@@ -209,17 +229,88 @@ fn area_light(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
         ls = sample_triangle(t.v0, t.v1, t.v2, emission_at(entry.instance, t.indices, mesh_b),
             two_sided, s.position, u);
     }
-    let c = light_contribution(s, ls);
+    return AreaSample(ls, pmf);
+}
+
+// One sample of the area-light table, weighted against BRDF sampling.
+fn area_light(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
+    let area = area_light_sample(s, rng);
+    let c = light_contribution(s, area.sample);
     if all(c.xyz == vec3<f32>(0.0)) {
         return vec3<f32>(0.0);
     }
-    let light_pdf = pmf * ls.pdf;
+    let light_pdf = area.pmf * area.sample.pdf;
     return c.xyz * power_heuristic(1.0, light_pdf, 1.0, c.w) / light_pdf;
 }
 
-// The next-event estimate at a shading point: punctual lights and one area-light sample.
+// f cos Li of a light sample over the probability `pick_pmf` of its light (an area sample's
+// also over its solid-angle pdf, and weighted against BRDF sampling), before its shadow ray;
+// 0 when rejected.
+fn light_unshadowed(s: Shading, ls: LightSample, pick_pmf: f32) -> vec3<f32> {
+    if !ls.valid {
+        return vec3<f32>(0.0);
+    }
+    let wi = frame_to_local(s.frame, ls.wi);
+    if wi.z <= 0.0 || dot(ls.wi, s.geometric_normal) <= 0.0 || all(ls.radiance == vec3<f32>(0.0)) {
+        return vec3<f32>(0.0);
+    }
+    let f = brdf_eval(s.params, s.wo, wi) * (wi.z / pick_pmf) * ls.radiance;
+    if ls.delta {
+        return f;
+    }
+    return f * power_heuristic(1.0, pick_pmf * ls.pdf, 1.0, brdf_pdf(s.params, s.wo, wi)) / ls.pdf;
+}
+
+// The next-event estimate at a path vertex beyond x0, with one shadow ray. Its candidates are
+// what the direct pass sums (one area-light sample, and every punctual light, or one picked
+// when there are more than ALL_PUNCTUAL_LIGHTS_MAX), each valued before its shadow ray
+// (light_unshadowed); one is picked in proportion to the luminance of its value (weighted
+// reservoir sampling with one number, rescaled at each candidate), traced, and counted over
+// the probability of the pick: where every candidate is visible the estimate is their sum, as
+// the direct pass's is, and only the visibility of the ones not picked is left to chance.
+// Unbiased, because a candidate is picked with nonzero probability wherever its value is
+// nonzero. The MIS weights are the direct pass's (emission_reached's counterpart is the area
+// sample as if always taken, so the two weights of a path still sum to 1). lavapipe runs every
+// block whatever its lanes decide, so one trace for all candidates is what saves the rays.
 fn next_event(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
-    return punctual_light(s, rng) + area_light(s, rng);
+    var u = pcg32_next_f32(rng);
+    let u_punctual = pcg32_next_f32(rng);
+    let area = area_light_sample(s, rng);
+    var chosen_ls = area.sample;
+    var chosen = light_unshadowed(s, area.sample, area.pmf);
+    var total = luminance(chosen);
+    var first = 0u;
+    var n = scene_info.light_count;
+    var pmf = 1.0;
+    if !punctual_lights_all_evaluated() {
+        let pick = punctual_pick(s, u_punctual);
+        first = pick.light;
+        pmf = pick.pmf;
+        n = 1u;
+    }
+    if !(FEATURE_POINT_LIGHTS || FEATURE_SPOT_LIGHTS || FEATURE_DIRECTIONAL_LIGHTS) {
+        n = 0u;
+    }
+    for (var i = 0u; i < n; i++) {
+        let ls = sample_punctual(scene_light(first + i), s.position);
+        let value = light_unshadowed(s, ls, pmf);
+        let w = luminance(value);
+        if w > 0.0 {
+            total += w;
+            let p = w / total;
+            if u < p {
+                chosen = value;
+                chosen_ls = ls;
+                u = u / p;
+            } else {
+                u = (u - p) / (1.0 - p);
+            }
+        }
+    }
+    if !(total > 0.0) || !f32_is_finite(total) || !unoccluded(s, chosen_ls.wi, chosen_ls.distance) {
+        return vec3<f32>(0.0);
+    }
+    return chosen * (total / luminance(chosen));
 }
 
 // The radiance that a ray leaving shading point `source` along world direction wi finds at
