@@ -70,9 +70,9 @@ fn unoccluded(s: Shading, wi: vec3<f32>, distance: f32) -> bool {
     return !trace_any(ray, t_max);
 }
 
-// f cos Li of a light sample that reaches the point, 0 when rejected or occluded; the BRDF
-// pdf of its direction in w.
-fn light_contribution(s: Shading, ls: LightSample) -> vec4<f32> {
+// f cos Li of a light sample before its shadow ray, and the BRDF pdf of its direction in w;
+// 0 when the sample is invalid, below either horizon, black, or not reflected.
+fn light_unoccluded_value(s: Shading, ls: LightSample) -> vec4<f32> {
     if !ls.valid {
         return vec4<f32>(0.0);
     }
@@ -81,10 +81,20 @@ fn light_contribution(s: Shading, ls: LightSample) -> vec4<f32> {
         return vec4<f32>(0.0);
     }
     let f = brdf_eval(s.params, s.wo, wi) * wi.z;
-    if all(f == vec3<f32>(0.0)) || !unoccluded(s, ls.wi, ls.distance) {
+    if all(f == vec3<f32>(0.0)) {
         return vec4<f32>(0.0);
     }
     return vec4<f32>(f * ls.radiance, brdf_pdf(s.params, s.wo, wi));
+}
+
+// f cos Li of a light sample that reaches the point, 0 when rejected or occluded; the BRDF
+// pdf of its direction in w.
+fn light_contribution(s: Shading, ls: LightSample) -> vec4<f32> {
+    let c = light_unoccluded_value(s, ls);
+    if all(c.xyz == vec3<f32>(0.0)) || !unoccluded(s, ls.wi, ls.distance) {
+        return vec4<f32>(0.0);
+    }
+    return c;
 }
 
 // The entry of the light table of `count` > 0 entries that u in [0, 1) picks: the first whose
@@ -155,31 +165,42 @@ fn punctual_pick(s: Shading, u: f32) -> PunctualPick {
     return PunctualPick(pick.light, (1.0 - share) * pick.pmf);
 }
 
-// Every punctual light when there are few, else one picked (punctual_pick), over its
-// probability. Either way one loop casts the shadow rays (lib/bvh.wgsl says why lavapipe wants
-// each trace in one place).
+// The punctual lights [first, first + n) to evaluate, their sum to be divided by pmf: every one
+// when there are few, else the one that u picks (punctual_pick); none when the pipeline is
+// specialised without any punctual kind.
+struct PunctualRange {
+    first: u32,
+    n: u32,
+    pmf: f32,
+}
+
+fn punctual_range(s: Shading, u: f32) -> PunctualRange {
+    var range = PunctualRange(0u, scene_info.light_count, 1.0);
+    if !punctual_lights_all_evaluated() {
+        let pick = punctual_pick(s, u);
+        range = PunctualRange(pick.light, 1u, pick.pmf);
+    }
+    if !(FEATURE_POINT_LIGHTS || FEATURE_SPOT_LIGHTS || FEATURE_DIRECTIONAL_LIGHTS) {
+        range.n = 0u;
+    }
+    return range;
+}
+
+// Every punctual light when there are few, else one picked, over its probability
+// (punctual_range). Either way one loop casts the shadow rays (lib/bvh.wgsl says why lavapipe
+// wants each trace in one place).
 fn punctual_light(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
-    let count = scene_info.light_count;
-    let any_kind = FEATURE_POINT_LIGHTS || FEATURE_SPOT_LIGHTS || FEATURE_DIRECTIONAL_LIGHTS;
-    // The lights [first, first + n) are evaluated, their sum divided by pmf.
-    var first = 0u;
-    var n = count;
-    var pmf = 1.0;
+    var u = 0.0;
     if !punctual_lights_all_evaluated() {
         // Drawn whatever the features, so that the random numbers after it stay the same.
-        let pick = punctual_pick(s, pcg32_next_f32(rng));
-        first = pick.light;
-        pmf = pick.pmf;
-        n = 1u;
+        u = pcg32_next_f32(rng);
     }
+    let range = punctual_range(s, u);
     var total = vec3<f32>(0.0);
-    if !any_kind {
-        return total;
+    for (var i = 0u; i < range.n; i++) {
+        total += light_contribution(s, sample_punctual(scene_light(range.first + i), s.position)).xyz;
     }
-    for (var i = 0u; i < n; i++) {
-        total += light_contribution(s, sample_punctual(scene_light(first + i), s.position)).xyz;
-    }
-    return total / pmf;
+    return total / range.pmf;
 }
 
 // One sample of the area-light table (an emissive triangle or the environment), not yet
@@ -247,18 +268,12 @@ fn area_light(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
 // also over its solid-angle pdf, and weighted against BRDF sampling), before its shadow ray;
 // 0 when rejected.
 fn light_unshadowed(s: Shading, ls: LightSample, pick_pmf: f32) -> vec3<f32> {
-    if !ls.valid {
-        return vec3<f32>(0.0);
-    }
-    let wi = frame_to_local(s.frame, ls.wi);
-    if wi.z <= 0.0 || dot(ls.wi, s.geometric_normal) <= 0.0 || all(ls.radiance == vec3<f32>(0.0)) {
-        return vec3<f32>(0.0);
-    }
-    let f = brdf_eval(s.params, s.wo, wi) * (wi.z / pick_pmf) * ls.radiance;
-    if ls.delta {
+    let c = light_unoccluded_value(s, ls);
+    let f = c.xyz / pick_pmf;
+    if ls.delta || all(f == vec3<f32>(0.0)) {
         return f;
     }
-    return f * power_heuristic(1.0, pick_pmf * ls.pdf, 1.0, brdf_pdf(s.params, s.wo, wi)) / ls.pdf;
+    return f * power_heuristic(1.0, pick_pmf * ls.pdf, 1.0, c.w) / ls.pdf;
 }
 
 // The next-event estimate at a path vertex beyond x0, with one shadow ray. Its candidates are
@@ -279,21 +294,10 @@ fn next_event(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
     var chosen_ls = area.sample;
     var chosen = light_unshadowed(s, area.sample, area.pmf);
     var total = luminance(chosen);
-    var first = 0u;
-    var n = scene_info.light_count;
-    var pmf = 1.0;
-    if !punctual_lights_all_evaluated() {
-        let pick = punctual_pick(s, u_punctual);
-        first = pick.light;
-        pmf = pick.pmf;
-        n = 1u;
-    }
-    if !(FEATURE_POINT_LIGHTS || FEATURE_SPOT_LIGHTS || FEATURE_DIRECTIONAL_LIGHTS) {
-        n = 0u;
-    }
-    for (var i = 0u; i < n; i++) {
-        let ls = sample_punctual(scene_light(first + i), s.position);
-        let value = light_unshadowed(s, ls, pmf);
+    let range = punctual_range(s, u_punctual);
+    for (var i = 0u; i < range.n; i++) {
+        let ls = sample_punctual(scene_light(range.first + i), s.position);
+        let value = light_unshadowed(s, ls, range.pmf);
         let w = luminance(value);
         if w > 0.0 {
             total += w;
