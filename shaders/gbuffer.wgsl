@@ -106,8 +106,8 @@ struct GbufferOut {
 
 @fragment
 fn fs_main(in: VertexOut) -> GbufferOut {
-    let record = bvh_instances[in.instance];
-    let material = scene_materials[record.material];
+    let record = bvh_load_instance_whole(in.instance);
+    let material = scene_material(record.material);
     let mesh_flags = scene_meshes[record.mesh].flags;
     let base = texture_sample_feature(FEATURE_BASE_COLOR_TEXTURES, material.base_color_texture,
         in.uvs, mesh_flags, vec4<f32>(1.0));

@@ -12,8 +12,8 @@ fn hit_accepted(instance: u32, triangle: u32, barycentrics: vec2<f32>) -> bool {
     if !FEATURE_ALPHA_MASKS {
         return true;
     }
-    let record = bvh_instances[instance];
-    let material = scene_materials[record.material];
+    let record = bvh_load_instance_whole(instance);
+    let material = scene_material(record.material);
     if (material.flags & MATERIAL_ALPHA_MASK) == 0u {
         return true;
     }

@@ -130,3 +130,18 @@ fn bvh_load_instance(i: u32) -> BvhInstanceRecord {
     let tail = texel_array_load(bvh_instance_texels, first + 6u);
     return BvhInstanceRecord(rows, tail.x, bitcast<f32>(tail.w));
 }
+
+// Instance i, its whole record (7 texels), for the passes that shade: lavapipe fetches a texel
+// for every lane at once, where it would load the storage record (binding 3) lane by lane.
+fn bvh_load_instance_whole(i: u32) -> GpuInstance {
+    let first = 7u * i;
+    let w0 = bitcast<vec4<f32>>(texel_array_load(bvh_instance_texels, first));
+    let w1 = bitcast<vec4<f32>>(texel_array_load(bvh_instance_texels, first + 1u));
+    let w2 = bitcast<vec4<f32>>(texel_array_load(bvh_instance_texels, first + 2u));
+    let o0 = bitcast<vec4<f32>>(texel_array_load(bvh_instance_texels, first + 3u));
+    let o1 = bitcast<vec4<f32>>(texel_array_load(bvh_instance_texels, first + 4u));
+    let o2 = bitcast<vec4<f32>>(texel_array_load(bvh_instance_texels, first + 5u));
+    let tail = texel_array_load(bvh_instance_texels, first + 6u);
+    return GpuInstance(array<vec4<f32>, 3>(w0, w1, w2), array<vec4<f32>, 3>(o0, o1, o2), tail.x,
+        tail.y, tail.z, bitcast<f32>(tail.w));
+}

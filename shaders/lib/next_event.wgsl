@@ -245,7 +245,7 @@ fn area_light_sample(s: Shading, rng: ptr<function, Pcg32>) -> AreaSample {
         let t = world_triangle(entry.instance, entry.triangle);
         let b = uniform_triangle(u);
         let mesh_b = select(b, b.yx, t.mirrored);
-        let material = scene_materials[bvh_instances[entry.instance].material];
+        let material = scene_material(bvh_load_instance_whole(entry.instance).material);
         let two_sided = (material.flags & MATERIAL_DOUBLE_SIDED) != 0u;
         ls = sample_triangle(t.v0, t.v1, t.v2, emission_at(entry.instance, t.indices, mesh_b),
             two_sided, s.position, u);
@@ -338,8 +338,8 @@ fn emission_reached(source: Shading, wi: vec3<f32>, hit: Hit, brdf_pdf: f32, wei
     if !FEATURE_EMISSIVE_TRIANGLES {
         return vec3<f32>(0.0);
     }
-    let record = bvh_instances[hit.instance];
-    let material = scene_materials[record.material];
+    let record = bvh_load_instance_whole(hit.instance);
+    let material = scene_material(record.material);
     if all(material.emission == vec3<f32>(0.0)) {
         return vec3<f32>(0.0);
     }

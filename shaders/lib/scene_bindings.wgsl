@@ -16,7 +16,7 @@ struct GpuVertex {
     pad: vec2<f32>,
 }
 
-// chiaro_gpu::GpuMesh: triangle t of the mesh uses scene_indices[index_base + 3 t + k],
+// chiaro_gpu::GpuMesh: triangle t of the mesh uses scene_index(index_base + 3 t + k),
 // which are global vertex indices.
 struct GpuMesh {
     index_base: u32,
@@ -128,10 +128,10 @@ struct GpuLightTreeNode {
     leaf: u32,
 }
 
-@group(0) @binding(8) var<storage, read> scene_vertices: array<GpuVertex>;
-@group(0) @binding(9) var<storage, read> scene_indices: array<u32>;
+@group(0) @binding(8) var scene_vertex_texels: texture_2d<u32>;
+@group(0) @binding(9) var scene_index_texels: texture_2d<u32>;
 @group(0) @binding(10) var<storage, read> scene_meshes: array<GpuMesh>;
-@group(0) @binding(11) var<storage, read> scene_materials: array<GpuMaterial>;
+@group(0) @binding(11) var scene_material_texels: texture_2d<u32>;
 @group(0) @binding(12) var<storage, read> scene_texels: array<u32>;
 @group(0) @binding(13) var<storage, read> scene_textures: array<GpuTextureInfo>;
 @group(0) @binding(14) var scene_light_texels: texture_2d<u32>;
@@ -141,6 +141,44 @@ struct GpuLightTreeNode {
 @group(0) @binding(18) var scene_env_table_texels: texture_2d<u32>;
 @group(0) @binding(19) var<storage, read> scene_info: GpuSceneInfo;
 @group(0) @binding(20) var scene_light_tree_texels: texture_2d<u32>;
+
+// Vertex i (4 texels). The vertices, the indices and the materials are texel arrays: every
+// hit a path shades reads them at its own address, and lavapipe loads a storage word lane by
+// lane.
+fn scene_vertex(i: u32) -> GpuVertex {
+    let a = bitcast<vec4<f32>>(texel_array_load(scene_vertex_texels, 4u * i));
+    let b = bitcast<vec4<f32>>(texel_array_load(scene_vertex_texels, 4u * i + 1u));
+    let c = bitcast<vec4<f32>>(texel_array_load(scene_vertex_texels, 4u * i + 2u));
+    let d = bitcast<vec4<f32>>(texel_array_load(scene_vertex_texels, 4u * i + 3u));
+    return GpuVertex(a.xyz, a.w, b.xyz, b.w, c, d.xy, d.zw);
+}
+
+// Global vertex index i (four to a texel).
+fn scene_index(i: u32) -> u32 {
+    return texel_array_load(scene_index_texels, i >> 2u)[i & 3u];
+}
+
+// Material i (16 texels: 4 of factors, then 3 for each texture slot). The shaders read a few
+// fields of it; the fetches of the others are dead code.
+fn scene_material(i: u32) -> GpuMaterial {
+    let first = 16u * i;
+    let base_color = bitcast<vec4<f32>>(texel_array_load(scene_material_texels, first));
+    let emission = texel_array_load(scene_material_texels, first + 1u);
+    let factors = bitcast<vec4<f32>>(texel_array_load(scene_material_texels, first + 2u));
+    let tail = texel_array_load(scene_material_texels, first + 3u);
+    return GpuMaterial(base_color, bitcast<vec3<f32>>(emission.xyz), bitcast<f32>(emission.w),
+        factors.x, factors.y, factors.z, factors.w, bitcast<f32>(tail.x), tail.y, tail.z, tail.w,
+        scene_texture_slot(first + 4u), scene_texture_slot(first + 7u),
+        scene_texture_slot(first + 10u), scene_texture_slot(first + 13u));
+}
+
+// The texture slot at material texel `first` (3 texels).
+fn scene_texture_slot(first: u32) -> GpuTextureSlot {
+    let a = texel_array_load(scene_material_texels, first);
+    let m = bitcast<vec4<f32>>(texel_array_load(scene_material_texels, first + 1u));
+    let t = bitcast<vec4<f32>>(texel_array_load(scene_material_texels, first + 2u));
+    return GpuTextureSlot(a.x, a.y, a.z, a.w, m, t);
+}
 
 // Punctual light i (4 texels).
 fn scene_light(i: u32) -> GpuLight {
@@ -202,14 +240,14 @@ fn env_conditional_pmf(row: u32, column: u32) -> f32 {
 // The three global vertex indices of triangle `triangle` of mesh `mesh`.
 fn scene_triangle_indices(mesh: u32, triangle: u32) -> vec3<u32> {
     let base = scene_meshes[mesh].index_base + 3u * triangle;
-    return vec3<u32>(scene_indices[base], scene_indices[base + 1u], scene_indices[base + 2u]);
+    return vec3<u32>(scene_index(base), scene_index(base + 1u), scene_index(base + 2u));
 }
 
 // The UVs (set 0 in xy, set 1 in zw) at barycentrics b (of vertices 1 and 2) of a triangle.
 fn scene_uvs(indices: vec3<u32>, b: vec2<f32>) -> vec4<f32> {
-    let v0 = scene_vertices[indices.x];
-    let v1 = scene_vertices[indices.y];
-    let v2 = scene_vertices[indices.z];
+    let v0 = scene_vertex(indices.x);
+    let v1 = scene_vertex(indices.y);
+    let v2 = scene_vertex(indices.z);
     let w = vec3<f32>(1.0 - b.x - b.y, b.x, b.y);
     let uv0 = vec2<f32>(v0.u0, v0.v0) * w.x + vec2<f32>(v1.u0, v1.v0) * w.y
         + vec2<f32>(v2.u0, v2.v0) * w.z;

@@ -40,12 +40,12 @@ struct WorldTriangle {
 }
 
 fn world_triangle(instance: u32, triangle: u32) -> WorldTriangle {
-    let record = bvh_instances[instance];
+    let record = bvh_load_instance_whole(instance);
     let i = scene_triangle_indices(record.mesh, triangle);
     let m = record.object_to_world;
-    let p0 = bvh_transform_point(m, scene_vertices[i.x].position);
-    let p1 = bvh_transform_point(m, scene_vertices[i.y].position);
-    let p2 = bvh_transform_point(m, scene_vertices[i.z].position);
+    let p0 = bvh_transform_point(m, scene_vertex(i.x).position);
+    let p1 = bvh_transform_point(m, scene_vertex(i.y).position);
+    let p2 = bvh_transform_point(m, scene_vertex(i.z).position);
     let mirrored = scene_instance_extras[instance].mirrored != 0u;
     if mirrored {
         return WorldTriangle(p0, p2, p1, i, true);
@@ -62,8 +62,8 @@ fn world_triangle_point(t: WorldTriangle, b: vec2<f32>) -> vec3<f32> {
 
 // Emitted radiance of an instance's material at mesh-order barycentrics b.
 fn emission_at(instance: u32, indices: vec3<u32>, b: vec2<f32>) -> vec3<f32> {
-    let record = bvh_instances[instance];
-    let material = scene_materials[record.material];
+    let record = bvh_load_instance_whole(instance);
+    let material = scene_material(record.material);
     let texel = texture_sample_feature(FEATURE_EMISSIVE_TEXTURES, material.emissive_texture, scene_uvs(indices, b),
         scene_meshes[record.mesh].flags, vec4<f32>(1.0));
     return material.emission * texel.xyz;
@@ -71,7 +71,7 @@ fn emission_at(instance: u32, indices: vec3<u32>, b: vec2<f32>) -> vec3<f32> {
 
 // The shading point of a covered, shading G-buffer texel seen by `camera`.
 fn gbuffer_shading(g: GbufferSurface, camera: GpuCamera) -> Shading {
-    let material = scene_materials[bvh_instances[g.instance].material];
+    let material = scene_material(bvh_load_instance_whole(g.instance).material);
     var s: Shading;
     s.position = g.position;
     s.geometric_normal = g.geometric_normal;
@@ -93,15 +93,15 @@ struct SurfaceHit {
 
 // The surface at `hit` of a ray travelling along `direction`.
 fn surface_at_hit(direction: vec3<f32>, hit: Hit) -> SurfaceHit {
-    let record = bvh_instances[hit.instance];
-    let material = scene_materials[record.material];
+    let record = bvh_load_instance_whole(hit.instance);
+    let material = scene_material(record.material);
     let mesh_flags = scene_meshes[record.mesh].flags;
     let t = world_triangle(hit.instance, hit.triangle);
     let b = hit.barycentrics;
     let w = vec3<f32>(1.0 - b.x - b.y, b.x, b.y);
-    let v0 = scene_vertices[t.indices.x];
-    let v1 = scene_vertices[t.indices.y];
-    let v2 = scene_vertices[t.indices.z];
+    let v0 = scene_vertex(t.indices.x);
+    let v1 = scene_vertex(t.indices.y);
+    let v2 = scene_vertex(t.indices.z);
     let normal = v0.normal * w.x + v1.normal * w.y + v2.normal * w.z;
     let tangent = v0.tangent * w.x + v1.tangent * w.y + v2.tangent * w.z;
     // The inverse transpose applied to the normal: the rows of world-to-object as columns.

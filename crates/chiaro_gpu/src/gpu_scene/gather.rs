@@ -354,10 +354,10 @@ fn distribution_1d(weights: &[f32]) -> Option<(Vec<f32>, Vec<f32>)> {
 }
 
 /// `values` four to a texel, the last texel padded with zeros.
-fn four_to_a_texel(values: &[f32]) -> Vec<[f32; 4]> {
+pub(super) fn four_to_a_texel<T: Copy + Default>(values: &[T]) -> Vec<[T; 4]> {
     values
         .chunks(4)
-        .map(|c| std::array::from_fn(|k| c.get(k).copied().unwrap_or(0.0)))
+        .map(|c| std::array::from_fn(|k| c.get(k).copied().unwrap_or_default()))
         .collect()
 }
 
@@ -467,7 +467,7 @@ mod tests {
             vec![[1.0, 2.0, 3.0, 4.0], [5.0, 6.0, 0.0, 0.0]]
         );
         assert_eq!(four_to_a_texel(&values[..4]).len(), 1);
-        assert!(four_to_a_texel(&[]).is_empty());
+        assert!(four_to_a_texel::<f32>(&[]).is_empty());
     }
 
     #[test]

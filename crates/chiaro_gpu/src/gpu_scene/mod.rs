@@ -1,6 +1,7 @@
 //! The scene on the GPU: one storage buffer per kind of data, or a texel array
-//! ([`MirrorTexels`]) for what the ray traversal and the light sampling read (the BVH, the
-//! light tables and trees, the environment and its importance table), bound as group(0) of
+//! ([`MirrorTexels`]) for what the ray traversal, the light sampling and the shading of hits
+//! read (the BVH, the light tables and trees, the environment and its importance table, the
+//! vertices, indices and materials), bound as group(0) of
 //! every pass, kept in step with the ECS world by [`upload_gpu_scene`], which runs after the
 //! BVH systems and writes only what changed.
 //!
@@ -14,10 +15,10 @@
 //! | 2 | TLAS nodes (texels) | `chiaro_bvh::TlasNode` |
 //! | 3 | instances | `chiaro_bvh::GpuInstance` |
 //! | 4 | instances (texels, for the traversal) | `chiaro_bvh::GpuInstance` |
-//! | 8 | vertices | [`GpuVertex`] |
-//! | 9 | indices | `u32`, global vertex indices |
+//! | 8 | vertices (texels) | [`GpuVertex`] |
+//! | 9 | indices (texels) | `u32`, global vertex indices, four to a texel |
 //! | 10 | meshes | [`GpuMesh`] |
-//! | 11 | materials | [`GpuMaterial`] |
+//! | 11 | materials (texels) | [`GpuMaterial`] |
 //! | 12 | texels | `u32`, packed RGBA8 |
 //! | 13 | textures | [`GpuTextureInfo`] |
 //! | 14 | punctual lights (texels) | [`GpuLight`] |
@@ -97,14 +98,14 @@ pub struct GpuScene {
     tlas_nodes: MirrorTexels<TlasNode>,
     instances: MirrorBuffer<GpuInstance>,
     instance_texels: MirrorTexels<GpuInstance>,
-    vertices: MirrorBuffer<GpuVertex>,
-    indices: MirrorBuffer<u32>,
+    vertices: MirrorTexels<GpuVertex>,
+    indices: MirrorTexels<[u32; 4]>,
     raster_vertices: MirrorBuffer<RasterVertex>,
     raster_indices: MirrorBuffer<u32>,
     closed_bounds: Vec<Option<back_faces::ClosedBounds>>,
     cullable_boxes: Vec<Option<back_faces::ClosedBounds>>,
     meshes: MirrorBuffer<GpuMesh>,
-    materials: MirrorBuffer<GpuMaterial>,
+    materials: MirrorTexels<GpuMaterial>,
     texels: MirrorBuffer<u32>,
     textures: MirrorBuffer<GpuTextureInfo>,
     lights: MirrorTexels<GpuLight>,
@@ -137,10 +138,10 @@ const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE;
 const VERTEX: wgpu::BufferUsages = wgpu::BufferUsages::VERTEX;
 
 /// The bindings of group(0) that are texel arrays (`Rgba32Uint` textures), in order.
-const TEXEL_BINDINGS: [u32; 9] = [0, 1, 2, 4, 14, 15, 17, 18, 20];
+const TEXEL_BINDINGS: [u32; 12] = [0, 1, 2, 4, 8, 9, 11, 14, 15, 17, 18, 20];
 
 /// The bindings of group(0) that are read-only storage buffers, in order.
-const BUFFER_BINDINGS: [u32; 9] = [3, 8, 9, 10, 11, 12, 13, 16, 19];
+const BUFFER_BINDINGS: [u32; 6] = [3, 10, 12, 13, 16, 19];
 
 impl GpuScene {
     /// Empty buffers on `context`'s device; the first [`upload_gpu_scene`] fills them.
@@ -183,14 +184,14 @@ impl GpuScene {
             tlas_nodes: MirrorTexels::new(d, "scene tlas nodes"),
             instances: MirrorBuffer::new(d, "scene instances", STORAGE | VERTEX),
             instance_texels: MirrorTexels::new(d, "scene instance texels"),
-            vertices: MirrorBuffer::new(d, "scene vertices", STORAGE),
-            indices: MirrorBuffer::new(d, "scene indices", STORAGE),
+            vertices: MirrorTexels::new(d, "scene vertices"),
+            indices: MirrorTexels::new(d, "scene indices"),
             raster_vertices: MirrorBuffer::new(d, "raster vertices", VERTEX),
             raster_indices: MirrorBuffer::new(d, "raster indices", wgpu::BufferUsages::INDEX),
             closed_bounds: Vec::new(),
             cullable_boxes: Vec::new(),
             meshes: MirrorBuffer::new(d, "scene meshes", STORAGE),
-            materials: MirrorBuffer::new(d, "scene materials", STORAGE),
+            materials: MirrorTexels::new(d, "scene materials"),
             texels: MirrorBuffer::new(d, "scene texels", STORAGE),
             textures: MirrorBuffer::new(d, "scene textures", STORAGE),
             lights: MirrorTexels::new(d, "scene lights"),
@@ -271,12 +272,15 @@ impl GpuScene {
         &self.mesh_runs
     }
 
-    fn texel_views(&self) -> [&wgpu::TextureView; 9] {
+    fn texel_views(&self) -> [&wgpu::TextureView; 12] {
         [
             self.blas_nodes.view(),
             self.triangles.view(),
             self.tlas_nodes.view(),
             self.instance_texels.view(),
+            self.vertices.view(),
+            self.indices.view(),
+            self.materials.view(),
             self.lights.view(),
             self.area_lights.view(),
             self.env_texels.view(),
@@ -285,14 +289,17 @@ impl GpuScene {
         ]
     }
 
-    /// Why the scene is not on the GPU whole: a BVH array, light table or environment array
-    /// larger than the device's largest texture.
+    /// Why the scene is not on the GPU whole: a BVH array, the vertices, indices or materials,
+    /// a light table or an environment array larger than the device's largest texture.
     pub fn overflow(&self) -> Option<&TexelOverflow> {
         self.blas_nodes
             .overflow()
             .or(self.triangles.overflow())
             .or(self.tlas_nodes.overflow())
             .or(self.instance_texels.overflow())
+            .or(self.vertices.overflow())
+            .or(self.indices.overflow())
+            .or(self.materials.overflow())
             .or(self.lights.overflow())
             .or(self.area_lights.overflow())
             .or(self.light_tree.overflow())
@@ -300,13 +307,10 @@ impl GpuScene {
             .or(self.env_table.overflow())
     }
 
-    fn buffers(&self) -> [&wgpu::Buffer; 9] {
+    fn buffers(&self) -> [&wgpu::Buffer; 6] {
         [
             self.instances.buffer(),
-            self.vertices.buffer(),
-            self.indices.buffer(),
             self.meshes.buffer(),
-            self.materials.buffer(),
             self.texels.buffer(),
             self.textures.buffer(),
             self.instance_extras.buffer(),
@@ -416,8 +420,14 @@ pub fn upload_gpu_scene(
             &table,
             &vertices,
         );
-        put!(scene, stats, realloc, vertices, &vertices);
-        put!(scene, stats, realloc, indices, &indices);
+        put_texels!(scene, stats, realloc, vertices, &vertices);
+        put_texels!(
+            scene,
+            stats,
+            realloc,
+            indices,
+            &gather::four_to_a_texel(&indices)
+        );
         put!(scene, stats, realloc, raster_vertices, &raster_vertices);
         put!(scene, stats, realloc, raster_indices, &raster_indices);
         put!(scene, stats, realloc, meshes, &table);
@@ -428,7 +438,7 @@ pub fn upload_gpu_scene(
     }
     let materials_changed = fresh || materials.as_ref().is_some_and(|m| m.is_changed());
     if materials_changed {
-        put!(
+        put_texels!(
             scene,
             stats,
             realloc,
