@@ -111,21 +111,16 @@ fn brdf_scatter(s: Shading, numbers: vec3<f32>) -> Scatter {
     return out;
 }
 
-// The next direction from s: BRDF importance sampling, or uniform over the hemisphere.
-fn scatter(s: Shading, rng: ptr<function, Pcg32>, naive: bool) -> Scatter {
-    if naive {
-        var out: Scatter;
-        let wi = uniform_hemisphere(pcg32_next_vec2(rng));
-        out.wi = frame_to_world(s.frame, wi);
-        out.weight = brdf_eval(s.params, s.wo, wi) * (wi.z / UNIFORM_HEMISPHERE_PDF);
-        out.pdf = UNIFORM_HEMISPHERE_PDF;
-        out.delta = false;
-        out.valid = true;
-        return out;
-    }
-    let u_lobe = pcg32_next_f32(rng);
-    let u = pcg32_next_vec2(rng);
-    return brdf_scatter(s, vec3<f32>(u_lobe, u));
+// The next direction from s, uniform over the hemisphere of its shading normal (naive mode).
+fn uniform_scatter(s: Shading, rng: ptr<function, Pcg32>) -> Scatter {
+    var out: Scatter;
+    let wi = uniform_hemisphere(pcg32_next_vec2(rng));
+    out.wi = frame_to_world(s.frame, wi);
+    out.weight = brdf_eval(s.params, s.wo, wi) * (wi.z / UNIFORM_HEMISPHERE_PDF);
+    out.pdf = UNIFORM_HEMISPHERE_PDF;
+    out.delta = false;
+    out.valid = true;
+    return out;
 }
 
 // The direct pass's BRDF ray from x0, for the first path: the numbers of its direction and
@@ -148,10 +143,17 @@ fn trace_path(x0: Shading, rng: ptr<function, Pcg32>, first_path: bool, first: F
         }
         let reuse = first_path && depth == 0u && !naive;
         var step: Scatter;
-        if reuse {
-            step = brdf_scatter(s, first.numbers);
+        if naive {
+            step = uniform_scatter(s, rng);
         } else {
-            step = scatter(s, rng, naive);
+            // One call site for both the reused and the drawn direction: lavapipe runs every
+            // arm of a branch, so two calls cost two BRDF samples.
+            var numbers = first.numbers;
+            if !reuse {
+                let u_lobe = pcg32_next_f32(rng);
+                numbers = vec3<f32>(u_lobe, pcg32_next_vec2(rng));
+            }
+            step = brdf_scatter(s, numbers);
         }
         if !step.valid {
             break;
