@@ -32,6 +32,7 @@
 #import lib/next_event.wgsl
 #import lib/color.wgsl
 #import lib/first_bounce.wgsl
+#import lib/lane_tiles.wgsl
 
 // chiaro_gpu::passes::direct::DirectParams.
 struct DirectParams {
@@ -72,7 +73,8 @@ fn brdf_light(s: Shading, numbers: vec3<f32>, first: ptr<function, vec4<u32>>) -
 }
 
 @compute @workgroup_size(8, 8)
-fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+fn main(@builtin(workgroup_id) workgroup: vec3<u32>, @builtin(local_invocation_index) local_index: u32) {
+    let id = lane_tile_pixel(workgroup, local_index);
     let size = textureDimensions(direct_out);
     if id.x >= size.x || id.y >= size.y {
         return;

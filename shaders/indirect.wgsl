@@ -54,6 +54,7 @@
 #import lib/next_event.wgsl
 #import lib/color.wgsl
 #import lib/first_bounce.wgsl
+#import lib/lane_tiles.wgsl
 
 // chiaro_gpu::passes::indirect::IndirectParams.
 struct IndirectParams {
@@ -194,7 +195,8 @@ fn trace_path(x0: Shading, rng: ptr<function, Pcg32>, first_path: bool, first: F
 }
 
 @compute @workgroup_size(8, 8)
-fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+fn main(@builtin(workgroup_id) workgroup: vec3<u32>, @builtin(local_invocation_index) local_index: u32) {
+    let id = lane_tile_pixel(workgroup, local_index);
     let size = textureDimensions(indirect_out);
     if id.x >= size.x || id.y >= size.y {
         return;
