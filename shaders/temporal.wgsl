@@ -39,7 +39,8 @@
 @group(0) @binding(8) var previous_position: texture_2d<u32>;
 @group(0) @binding(9) var previous_surface: texture_2d<u32>;
 @group(0) @binding(10) var previous_emission: texture_2d<u32>;
-// Last frame's first a-trous iteration (rgb).
+// Last frame's temporal average (rgb; chiaro_gpu::Denoiser::record_atrous says why not SVGF's
+// first a-trous iteration).
 @group(0) @binding(11) var color_history: texture_2d<f32>;
 // Last frame's moments: luminance, luminance squared, history length.
 @group(0) @binding(12) var moments_history: texture_2d<f32>;

@@ -11,9 +11,8 @@
 //!    its luminance moments, history length, a non-finite guard.
 //! 2. `variance`: luminance variance from the moments, spatial while the history is short.
 //! 3. `atrous`: [`DenoiseSettings::atrous_iterations`] edge-avoiding iterations (steps 1, 2,
-//!    4, ...); the first one's output is the next frame's colour history (on a still view,
-//!    [`crate::still_view`], the temporal average itself), the last one's is
-//!    [`Denoiser::output`].
+//!    4, ...); the last one's output is [`Denoiser::output`]. The next frame's colour history
+//!    is the temporal average (see [`Denoiser::record_atrous`]).
 //!
 //! Pixels that are not a covered surface that shades pass their light (direct + indirect, not
 //! demodulated; a non-finite value as 0) through to the output unfiltered.
@@ -77,23 +76,23 @@ pub struct Denoiser {
     lighting: Target,
     filtered: Target,
     output: Target,
-    /// The temporal average (the colour history of a still view).
+    /// The temporal average (copied into the colour history after the a-trous iterations).
     integrated: Target,
-    /// Textures that only bind groups name (the edge data, the a-trous ping-pong pair), owned
-    /// here for the denoiser's lifetime.
-    _internal: [Target; 3],
+    /// The a-trous ping-pong pair: iteration 0 writes the first, iteration i >= 1 reads
+    /// i - 1's and writes the other (the last iteration writes the output instead).
+    first_iteration: Target,
+    /// Textures that only bind groups name (the edge data, the second of the ping-pong pair),
+    /// owned here for the denoiser's lifetime.
+    _internal: [Target; 2],
     temporal_group: wgpu::BindGroup,
     variance_group: wgpu::BindGroup,
-    /// Iteration 0: the variance pass's output into the colour history.
+    /// Iteration 0: the variance pass's output into the first ping-pong texture.
     first_group: wgpu::BindGroup,
     /// Iterations 1.. (index - 1): into the ping-pong texture, or into the output (the last).
     later_groups: Vec<[wgpu::BindGroup; 2]>,
     iterations: usize,
     /// No history yet: the next frame starts afresh whatever `prepare` says.
     fresh: bool,
-    /// Whether this frame's temporal average is a running mean ([`crate::still_view`]): then
-    /// it is the next frame's colour history itself, not its first a-trous iteration.
-    running_mean: bool,
 }
 
 impl Denoiser {
@@ -176,16 +175,12 @@ impl Denoiser {
         let first_group = atrous.bind_group(
             device,
             binding(0),
-            [&filtered.view, &edges.view, &color_history.view],
+            [&filtered.view, &edges.view, &ping[0].view],
             targets,
         );
         let later_groups = (1..MAX_ATROUS_ITERATIONS)
             .map(|i| {
-                let input = if i == 1 {
-                    &color_history.view
-                } else {
-                    &ping[(i - 1) % 2].view
-                };
+                let input = &ping[(i - 1) % 2].view;
                 let group = |out| {
                     atrous.bind_group(
                         device,
@@ -197,7 +192,7 @@ impl Denoiser {
                 [group(&ping[i % 2].view), group(&output.view)]
             })
             .collect();
-        let [ping0, ping1] = ping;
+        let [first_iteration, ping1] = ping;
         Ok(Self {
             temporal,
             variance,
@@ -211,14 +206,14 @@ impl Denoiser {
             filtered,
             output,
             integrated,
-            _internal: [edges, ping0, ping1],
+            first_iteration,
+            _internal: [edges, ping1],
             temporal_group,
             variance_group,
             first_group,
             later_groups,
             iterations: DenoiseSettings::default().atrous_iterations as usize,
             fresh: true,
-            running_mean: false,
         })
     }
 
@@ -233,7 +228,6 @@ impl Denoiser {
         weights: HistoryWeights,
     ) {
         self.iterations = (settings.atrous_iterations as usize).min(MAX_ATROUS_ITERATIONS);
-        self.running_mean = weights.running_mean;
         let mut bytes = vec![0u8; (PARAMS_STRIDE as usize) * MAX_ATROUS_ITERATIONS];
         for (i, chunk) in bytes.chunks_exact_mut(PARAMS_STRIDE as usize).enumerate() {
             let p = DenoiseParams {
@@ -281,12 +275,13 @@ impl Denoiser {
     }
 
     /// All a-trous iterations in one compute pass (one timing entry). With no iteration the
-    /// output is the variance pass's colour (the temporal average), which is also the history.
+    /// output is the variance pass's colour (the temporal average).
     ///
-    /// On a still view whose average is a running mean the history is the temporal average
-    /// itself. SVGF's history, the first iteration's output, is filtered again every frame it
-    /// is kept: the longer a running mean keeps it, the more often it is blurred (on the bench's
-    /// glTF scenes the error after 64 frames rose by up to 70% with it; BENCHMARKS.md).
+    /// The next frame's colour history is this frame's temporal average, not SVGF's first
+    /// a-trous iteration: that one is filtered again every frame it is kept, so a history that
+    /// lasts (a still view's running mean, or the moving average's twenty frames while the
+    /// camera moves) is blurred again and again. BENCHMARKS.md, "Denoiser: the temporal
+    /// average as the colour history".
     pub fn record_atrous(
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
@@ -303,16 +298,11 @@ impl Denoiser {
         }
         self.atrous.record(encoder, &groups, targets, timestamps);
         match n {
-            0 => {
-                copy(encoder, &self.filtered, &self.color_history);
-                copy(encoder, &self.filtered, &self.output);
-            }
-            1 => copy(encoder, &self.color_history, &self.output),
+            0 => copy(encoder, &self.filtered, &self.output),
+            1 => copy(encoder, &self.first_iteration, &self.output),
             _ => {}
         }
-        if n > 0 && self.running_mean {
-            copy(encoder, &self.integrated, &self.color_history);
-        }
+        copy(encoder, &self.integrated, &self.color_history);
     }
 
     /// The filtered, demodulated lighting (rgba32float, the targets' size; the same view every
@@ -353,8 +343,8 @@ impl Denoiser {
             .collect())
     }
 
-    /// The colour history the next frame reprojects (the last frame's first a-trous
-    /// iteration, or on a still view its temporal average), per pixel.
+    /// The colour history the next frame reprojects (the last frame's temporal average), per
+    /// pixel.
     pub fn read_color_history(
         &self,
         device: &wgpu::Device,

@@ -11,10 +11,6 @@
 //! is no longer there) for longer than the moving average does, so the running mean waits
 //! [`settle_frames`] still frames first, the moving average's time to bring that part under 1%.
 //!
-//! While the average is a running mean, the colour history is the temporal average itself,
-//! not SVGF's first a-trous iteration: that one is filtered again every frame it is kept, and
-//! a running mean keeps it long ([`crate::Denoiser::record_atrous`]).
-//!
 //! The variance pass needs the variance of the average relative to one frame's sample (for its
 //! luminance edge-stopping): a / (2 - a) for the moving average's steady state, then
 //! (N^2 a / (2 - a) + k) / (N + k)^2 with N = 1/a.
@@ -60,9 +56,6 @@ pub struct HistoryWeights {
     /// The variance of a long history's average relative to one frame's sample
     /// ([`history_variance`]).
     pub variance: f32,
-    /// Whether the averages are running means this frame ([`running_mean_frames`] above 0):
-    /// then the colour history is the temporal average itself.
-    pub running_mean: bool,
     /// How much of the resolve's neighbourhood clamp its history gets ([`resolve_clamp`]).
     pub clamp: f32,
 }
@@ -97,7 +90,6 @@ pub fn history_weights(settings: &DenoiseSettings, stillness: Stillness) -> Hist
     HistoryWeights {
         floor: history_floor(settings.temporal_floor, k),
         variance: history_variance(settings.temporal_floor, k),
-        running_mean: k > 0,
         clamp: resolve_clamp(k),
     }
 }
