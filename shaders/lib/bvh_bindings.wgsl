@@ -5,7 +5,8 @@
 // i * (record size / 16) onwards in row-major order, 2^TEXEL_ROW_BITS texels to a row), read
 // with bvh_load_*: a texel fetch gathers 16 bytes per lane, where lavapipe loads a storage
 // buffer at per-lane addresses one lane and one word at a time. The instances are also a
-// storage buffer (binding 3), for the passes that shade.
+// storage buffer (binding 3), which the shaders read only for its length (the empty scene's
+// leaf below); the passes that shade read the texels (bvh_load_instance_whole).
 //
 // Compressed wide BVH nodes after Ylitie, Karras and Laine, "Efficient Incoherent Ray Traversal
 // on GPUs Through Compressed Wide BVHs", High Performance Graphics 2017, in obvhs's record
@@ -132,7 +133,7 @@ fn bvh_load_instance(i: u32) -> BvhInstanceRecord {
 }
 
 // Instance i, its whole record (7 texels), for the passes that shade: lavapipe fetches a texel
-// for every lane at once, where it would load the storage record (binding 3) lane by lane.
+// for every lane at once, where it would load a storage record lane by lane.
 fn bvh_load_instance_whole(i: u32) -> GpuInstance {
     let first = 7u * i;
     let w0 = bitcast<vec4<f32>>(texel_array_load(bvh_instance_texels, first));

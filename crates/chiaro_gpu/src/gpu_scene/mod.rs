@@ -13,8 +13,8 @@
 //! | 0 | BLAS nodes (texels) | obvhs `CwBvhNode` |
 //! | 1 | BLAS triangles (texels) | `chiaro_bvh::BvhTriangle` |
 //! | 2 | TLAS nodes (texels) | `chiaro_bvh::TlasNode` |
-//! | 3 | instances | `chiaro_bvh::GpuInstance` |
-//! | 4 | instances (texels, for the traversal) | `chiaro_bvh::GpuInstance` |
+//! | 3 | instances (read for their count only) | `chiaro_bvh::GpuInstance` |
+//! | 4 | instances (texels, for the traversal and the shading) | `chiaro_bvh::GpuInstance` |
 //! | 8 | vertices (texels) | [`GpuVertex`] |
 //! | 9 | indices (texels) | `u32`, global vertex indices, four to a texel |
 //! | 10 | meshes | [`GpuMesh`] |
