@@ -131,67 +131,106 @@ struct FirstBounce {
     texel: vec4<u32>,
 }
 
-// One path from the primary shading point x0: what the pass counts of its light. With
-// `first_path`, its first step is `first`'s (not in naive mode).
-fn trace_path(x0: Shading, rng: ptr<function, Pcg32>, first_path: bool, first: FirstBounce) -> vec3<f32> {
+// A path in flight from the primary shading point x0: the vertex it is at, its throughput, the
+// light counted so far and the vertex's depth (x0 is depth 0).
+struct Path {
+    s: Shading,
+    throughput: vec3<f32>,
+    total: vec3<f32>,
+    depth: u32,
+}
+
+fn path_from(x0: Shading) -> Path {
+    return Path(x0, vec3<f32>(1.0), vec3<f32>(0.0), 0u);
+}
+
+// One step of `path` from its vertex: next-event estimation there (not at x0), the next
+// direction, its ray (with `first_path`, the step from x0 is `first`'s, not in naive mode), the
+// emission it reaches and the surface at its hit, which becomes the path's vertex. False when
+// the path ends at this step.
+fn path_step(path: ptr<function, Path>, rng: ptr<function, Pcg32>, first_path: bool,
+    first: FirstBounce) -> bool {
     let naive = params.naive != 0u;
-    var s = x0;
-    var throughput = vec3<f32>(1.0);
-    var total = vec3<f32>(0.0);
-    for (var depth = 0u; depth <= params.bounces; depth++) {
-        if depth > 0u && !naive {
-            total += throughput * next_event(s, rng);
+    let s = (*path).s;
+    let depth = (*path).depth;
+    if depth > 0u && !naive {
+        (*path).total += (*path).throughput * next_event(s, rng);
+    }
+    let reuse = first_path && depth == 0u && !naive;
+    var step: Scatter;
+    if naive {
+        step = uniform_scatter(s, rng);
+    } else {
+        // One call site for both the reused and the drawn direction: lavapipe runs every
+        // arm of a branch, so two calls cost two BRDF samples.
+        var numbers = first.numbers;
+        if !reuse {
+            let u_lobe = pcg32_next_f32(rng);
+            numbers = vec3<f32>(u_lobe, pcg32_next_vec2(rng));
         }
-        let reuse = first_path && depth == 0u && !naive;
-        var step: Scatter;
-        if naive {
-            step = uniform_scatter(s, rng);
-        } else {
-            // One call site for both the reused and the drawn direction: lavapipe runs every
-            // arm of a branch, so two calls cost two BRDF samples.
-            var numbers = first.numbers;
-            if !reuse {
-                let u_lobe = pcg32_next_f32(rng);
-                numbers = vec3<f32>(u_lobe, pcg32_next_vec2(rng));
-            }
-            step = brdf_scatter(s, numbers);
+        step = brdf_scatter(s, numbers);
+    }
+    if !step.valid {
+        return false;
+    }
+    var throughput = (*path).throughput * step.weight;
+    if !vec3_is_finite(throughput) || all(throughput == vec3<f32>(0.0)) {
+        return false;
+    }
+    let ray = leaving_ray(s, step.wi);
+    if depth + 1u >= RUSSIAN_ROULETTE_FROM {
+        let survive = clamp(max(max(throughput.x, throughput.y), throughput.z),
+            RUSSIAN_ROULETTE_MIN, 1.0);
+        if pcg32_next_f32(rng) >= survive {
+            return false;
         }
-        if !step.valid {
-            break;
-        }
-        throughput *= step.weight;
-        if !vec3_is_finite(throughput) || all(throughput == vec3<f32>(0.0)) {
-            break;
-        }
-        let ray = leaving_ray(s, step.wi);
-        if depth + 1u >= RUSSIAN_ROULETTE_FROM {
-            let survive = clamp(max(max(throughput.x, throughput.y), throughput.z),
-                RUSSIAN_ROULETTE_MIN, 1.0);
-            if pcg32_next_f32(rng) >= survive {
+        throughput /= survive;
+    }
+    (*path).throughput = throughput;
+    var hit: Hit;
+    if reuse && first_bounce_traced(first.texel) {
+        hit = first_bounce_decode(first.texel);
+    } else {
+        hit = trace_closest(ray, f32_infinity());
+    }
+    if depth > 0u || naive {
+        (*path).total += throughput * emission_reached(s, step.wi, hit, step.pdf,
+            !naive && !step.delta);
+    }
+    if hit.instance == BVH_NO_HIT || depth == params.bounces {
+        return false;
+    }
+    let next = surface_at_hit(step.wi, hit);
+    if !next.shades {
+        return false;
+    }
+    (*path).s = next.shading;
+    (*path).depth = depth + 1u;
+    return true;
+}
+
+// The sum over `spp` paths from x0 of the light each counts, each scaled down to the firefly
+// clamp. One loop steps whichever path each invocation is on and starts the next where one
+// ends (path regeneration: Novak, Havran and Dachsbacher, "Path Regeneration for Interactive
+// Path Tracing", Eurographics 2010 short papers): the invocations that run as one SIMD vector
+// (or subgroup) take as many steps as the longest of their sums of path lengths, not the sum
+// of their longest paths. Each invocation draws its numbers in the same order as path after
+// path, so the estimate is the same.
+fn trace_paths(x0: Shading, rng: ptr<function, Pcg32>, first: FirstBounce) -> vec3<f32> {
+    var sum = vec3<f32>(0.0);
+    var path = path_from(x0);
+    var done = 0u;
+    loop {
+        if !path_step(&path, rng, done == 0u, first) {
+            sum += clamp_luminance(path.total, params.firefly_clamp);
+            done += 1u;
+            if done == params.spp {
                 break;
             }
-            throughput /= survive;
+            path = path_from(x0);
         }
-        var hit: Hit;
-        if reuse && first_bounce_traced(first.texel) {
-            hit = first_bounce_decode(first.texel);
-        } else {
-            hit = trace_closest(ray, f32_infinity());
-        }
-        if depth > 0u || naive {
-            total += throughput * emission_reached(s, step.wi, hit, step.pdf,
-                !naive && !step.delta);
-        }
-        if hit.instance == BVH_NO_HIT || depth == params.bounces {
-            break;
-        }
-        let next = surface_at_hit(step.wi, hit);
-        if !next.shades {
-            break;
-        }
-        s = next.shading;
     }
-    return clamp_luminance(total, params.firefly_clamp);
+    return sum;
 }
 
 @compute @workgroup_size(8, 8)
@@ -218,10 +257,7 @@ fn main(@builtin(workgroup_id) workgroup: vec3<u32>, @builtin(local_invocation_i
             var rng = pcg32_new(seed ^ INDIRECT_SEED, vec2<u32>(index, params.frame));
             let first = FirstBounce(first_bounce_numbers(seed, index, params.frame),
                 textureLoad(first_bounce, pixel, 0));
-            for (var i = 0u; i < params.spp; i++) {
-                radiance += trace_path(x0, &rng, i == 0u, first);
-            }
-            radiance /= f32(params.spp);
+            radiance = trace_paths(x0, &rng, first) / f32(params.spp);
         }
     }
     textureStore(indirect_out, pixel, vec4<f32>(radiance, 1.0));
