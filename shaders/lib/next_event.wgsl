@@ -34,6 +34,13 @@
 #import lib/light_tree.wgsl
 #import lib/color.wgsl
 
+// Whether lights are picked through the light trees: the importer asks for it, and the pipeline
+// is specialised with trees to pick from (without, the trees' code is compiled out, which
+// lavapipe would otherwise run, masked, at every light sample).
+fn light_trees_picking() -> bool {
+    return FEATURE_LIGHT_TREES && light_tree_sampling();
+}
+
 // The CDFs light_table_pick searches: the punctual lights' by power, the area table's, and the
 // directional lights' among themselves (GpuLight::directional_cdf).
 const TABLE_PUNCTUAL: u32 = 0u;
@@ -152,7 +159,7 @@ struct PunctualPick {
 fn punctual_pick(s: Shading, u: f32) -> PunctualPick {
     let count = scene_info.light_count;
     let share = scene_info.directional_share;
-    if !light_tree_sampling() || scene_info.punctual_tree == NO_INDEX {
+    if !light_trees_picking() || scene_info.punctual_tree == NO_INDEX {
         let first = light_table_pick(u, count, TABLE_PUNCTUAL);
         return PunctualPick(first, scene_light(first).pmf);
     }
@@ -222,7 +229,7 @@ fn area_light_sample(s: Shading, rng: ptr<function, Pcg32>) -> AreaSample {
     let share = scene_info.env_pmf;
     var index: u32;
     var pmf: f32;
-    if !light_tree_sampling() || scene_info.area_tree == NO_INDEX {
+    if !light_trees_picking() || scene_info.area_tree == NO_INDEX {
         index = light_table_pick(u_pick, count, TABLE_AREA);
         pmf = scene_area_light(index).pmf;
     } else if u_pick < share {
@@ -355,7 +362,7 @@ fn emission_reached(source: Shading, wi: vec3<f32>, hit: Hit, brdf_pdf: f32, wei
         let q = world_triangle_point(t, hit.barycentrics);
         let first = scene_instance_extras[hit.instance].area_first;
         var pmf = 0.0;
-        if first != NO_INDEX && light_tree_sampling() && scene_info.area_tree != NO_INDEX {
+        if first != NO_INDEX && light_trees_picking() && scene_info.area_tree != NO_INDEX {
             let leaf = scene_info.area_leaves + first + hit.triangle;
             pmf = (1.0 - scene_info.env_pmf)
                 * light_tree_pmf(leaf, source.position, source.frame.normal);

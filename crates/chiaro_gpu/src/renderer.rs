@@ -15,7 +15,7 @@ use crate::context::GpuContext;
 use crate::frame::{Frame, FrameInput, ScenePasses};
 use crate::gpu_scene::{GpuScene, add_gpu_scene_systems};
 use crate::readback::{ReadbackError, read_hdr, read_texture};
-use crate::settings::{FrameSettings, SettingsError};
+use crate::settings::{FrameSettings, LightSampling, SettingsError};
 use crate::shaders::ShaderError;
 use crate::still_view::Stillness;
 use crate::timing::PassTimes;
@@ -346,10 +346,10 @@ impl Renderer {
             stillness: self.stillness,
             settings: settings.frame,
             poison: self.poison,
-            features: settings
-                .frame
-                .pipeline
-                .features(world.get_resource::<SceneFeatures>()),
+            features: settings.frame.pipeline.features(
+                world.get_resource::<SceneFeatures>(),
+                scene.light_trees() && settings.frame.light_sampling == LightSampling::Tree,
+            ),
             background_compile: self.background_compile,
         };
         let frame = self.frame.as_mut().ok_or(RenderError::NotRendered)?;

@@ -137,7 +137,9 @@ pub struct FrameSettings {
     /// emissive triangles and the environment; punctual lights past
     /// `ALL_PUNCTUAL_LIGHTS_MAX`): `Tree`, by each light's importance to the shading point
     /// through light trees (less noise with many lights, a few node reads per pick), or
-    /// `Power`, by power alone (the baseline). Both are unbiased.
+    /// `Power`, by power alone (the baseline). Both are unbiased. A scene with at most
+    /// `AREA_LIGHTS_BY_POWER_MAX` emissive triangles has no area tree and picks them by power
+    /// either way.
     pub light_sampling: LightSampling,
     /// The realtime mode's denoiser.
     pub denoise: DenoiseSettings,

@@ -62,9 +62,12 @@ impl PipelineFeatures {
     pub const ENVIRONMENT: Self = Self(1 << 9);
     /// The environment is an image (looked up and importance-sampled).
     pub const ENVIRONMENT_MAP: Self = Self(1 << 10);
+    /// Light trees to pick lights through ([`crate::gpu_scene::GpuScene::light_trees`]), and
+    /// the frame picks through them ([`crate::settings::LightSampling::Tree`]).
+    pub const LIGHT_TREES: Self = Self(1 << 11);
 
     /// Every flag, in bit order.
-    pub const FLAGS: [FeatureFlag; 11] = [
+    pub const FLAGS: [FeatureFlag; 12] = [
         flag(
             Self::BASE_COLOR_TEXTURES,
             "FEATURE_BASE_COLOR_TEXTURES",
@@ -107,6 +110,11 @@ impl PipelineFeatures {
             Self::ENVIRONMENT_MAP,
             "FEATURE_ENVIRONMENT_MAP",
             "an environment image",
+        ),
+        flag(
+            Self::LIGHT_TREES,
+            "FEATURE_LIGHT_TREES",
+            "light trees, and the frame picks lights through them",
         ),
     ];
 
@@ -210,12 +218,18 @@ pub enum PipelineChoice {
 }
 
 impl PipelineChoice {
-    /// The feature set to compile for a scene using `scene` (all of them when unknown).
-    pub fn features(self, scene: Option<&SceneFeatures>) -> PipelineFeatures {
+    /// The feature set to compile for a scene using `scene` (all of them when unknown), whose
+    /// frame picks lights through light trees when `light_trees` (the GPU scene has a tree and
+    /// the settings ask for them: [`crate::gpu_scene::GpuScene::light_trees`]).
+    pub fn features(self, scene: Option<&SceneFeatures>, light_trees: bool) -> PipelineFeatures {
         match self {
-            PipelineChoice::Specialized => {
-                scene.map_or(PipelineFeatures::ALL, PipelineFeatures::of_scene)
-            }
+            PipelineChoice::Specialized => match scene {
+                Some(scene) if light_trees => {
+                    PipelineFeatures::of_scene(scene).with(PipelineFeatures::LIGHT_TREES)
+                }
+                Some(scene) => PipelineFeatures::of_scene(scene),
+                None => PipelineFeatures::ALL,
+            },
             PipelineChoice::AllFeatures => PipelineFeatures::ALL,
             PipelineChoice::Exactly(features) => features,
         }

@@ -1,7 +1,8 @@
 //! Change-driven upload: the first frame uploads the scene, a frame with no change uploads
 //! nothing, moving one instance writes that instance and the TLAS nodes only (and, a frame
 //! later, its previous-frame transform), a material edit writes that material only, a light
-//! edit the light table only, a new sky the area-light table and the scene info only.
+//! edit the light table only, a new sky the area-light table and the scene info only. Light
+//! trees are built only past the bounds up to which lights are all evaluated or picked by power.
 
 mod common;
 
@@ -137,4 +138,38 @@ fn light_and_environment_edits_rewrite_their_tables_only() {
         chiaro_gpu::gpu_scene::layout::ENV_CONSTANT
     );
     assert!(scene.info.env_pmf > 0.0 && scene.info.env_pmf < 1.0);
+}
+
+/// The light trees exist only with more than `ALL_PUNCTUAL_LIGHTS_MAX` punctual lights or more
+/// than `AREA_LIGHTS_BY_POWER_MAX` emissive triangles (two per quad of builtin:many-lights).
+#[test]
+fn light_trees_only_past_their_bounds() {
+    use chiaro_gpu::gpu_scene::layout::{
+        ALL_PUNCTUAL_LIGHTS_MAX, AREA_LIGHTS_BY_POWER_MAX, NO_INDEX,
+    };
+    let Some(gpu) = common::gpu() else { return };
+    let trees = |quads: usize, lights: u32| {
+        let mut world = World::new();
+        load_scene(
+            &mut world,
+            &format!("builtin:many-lights?quads={quads}&lights={lights}"),
+        )
+        .unwrap();
+        world.insert_resource(GpuScene::new(&gpu));
+        let mut schedule = Schedule::default();
+        add_gpu_scene_systems(&mut schedule);
+        schedule.run(&mut world);
+        let scene = world.resource::<GpuScene>();
+        assert_eq!(scene.info.area_count as usize, 2 * quads);
+        (
+            scene.info.area_tree != NO_INDEX,
+            scene.info.punctual_tree != NO_INDEX,
+            scene.light_trees(),
+        )
+    };
+    let few_quads = AREA_LIGHTS_BY_POWER_MAX / 2;
+    let few_lights = ALL_PUNCTUAL_LIGHTS_MAX;
+    assert_eq!(trees(few_quads, few_lights), (false, false, false));
+    assert_eq!(trees(few_quads + 1, few_lights), (true, false, true));
+    assert_eq!(trees(few_quads, few_lights + 1), (false, true, true));
 }

@@ -5,7 +5,8 @@
 //!   all-features frame and every frame with one more flag than the scene needs are the same
 //!   image with the same seed: relMSE at most [`ROUNDING`].
 //! - On a Cornell box given every feature (textures of each kind, a normal-mapped panel, an
-//!   alpha-masked block, point, spot and directional lights, an environment image), the
+//!   alpha-masked block, point, spot and directional lights, an environment image, an
+//!   emitting short block, whose triangles with the light's are enough for a light tree), the
 //!   pipeline for exactly the scene's features renders the all-features image, and turning any
 //!   one flag off changes the image (relMSE above [`MISSING`]).
 //!
@@ -15,7 +16,7 @@ mod common;
 
 use bevy_ecs::prelude::*;
 use chiaro_gpu::{
-    FrameSettings, PipelineChoice, PipelineFeatures, RenderMode, RenderSettings, Renderer,
+    FrameSettings, GpuScene, PipelineChoice, PipelineFeatures, RenderMode, RenderSettings, Renderer,
 };
 use chiaro_scene::{
     AlphaMode, Environment, EnvironmentSource, EquirectImage, Light, LightKind, Material,
@@ -58,9 +59,15 @@ fn cornell() -> World {
     world
 }
 
-/// The features the scene's systems derived, after one frame.
+/// The features the scene's systems derived, after one frame: the scene's own, and light trees
+/// where the GPU scene built one (the frames pick lights through trees, the default).
 fn scene_features(world: &World) -> PipelineFeatures {
-    PipelineFeatures::of_scene(world.resource::<SceneFeatures>())
+    let features = PipelineFeatures::of_scene(world.resource::<SceneFeatures>());
+    if world.resource::<GpuScene>().light_trees() {
+        features.with(PipelineFeatures::LIGHT_TREES)
+    } else {
+        features
+    }
 }
 
 #[test]
@@ -176,6 +183,9 @@ fn cornell_with_every_feature() -> World {
     });
     edit_material(&mut world, "light", |m| m.emissive_texture = Some(emissive));
     mask_tall_block(&mut world);
+    edit_material(&mut world, "short block", |m| {
+        m.emissive = Vec3::new(0.2, 0.1, 0.05);
+    });
     // A normal-mapped panel in front of the back wall (the box is 0.555 m wide) (tangents generated from its UVs).
     let (panel, _) = Mesh::new(
         "panel",

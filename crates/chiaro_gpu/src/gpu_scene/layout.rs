@@ -44,6 +44,12 @@ pub const SAMPLER_NEAREST: u32 = 16;
 /// with more it picks one by power.
 pub const ALL_PUNCTUAL_LIGHTS_MAX: u32 = 8;
 
+/// With at most this many emissive triangles the area lights get no light tree and are picked
+/// by power alone: on so few, picking by importance measured no better (BENCHMARKS.md,
+/// "Light trees only where there are many lights"), and a pipeline without the trees' code
+/// runs faster.
+pub const AREA_LIGHTS_BY_POWER_MAX: usize = 8;
+
 /// `light_sampling` of the direct and indirect passes' params: pick by power alone.
 pub const LIGHT_SAMPLING_POWER: u32 = 0;
 /// `light_sampling` of the passes' params: pick through the light trees.
@@ -306,7 +312,8 @@ pub struct GpuSceneInfo {
     pub env_pmf: f32,
     /// Number of instances.
     pub instance_count: u32,
-    /// Root of the tree over the area table's emissive triangles, [`NO_INDEX`] when none.
+    /// Root of the tree over the area table's emissive triangles, [`NO_INDEX`] when none (it
+    /// is built only with more than [`AREA_LIGHTS_BY_POWER_MAX`] of them).
     pub area_tree: u32,
     /// Root of the tree over the point and spot lights, [`NO_INDEX`] when none (it is built
     /// only with more than [`ALL_PUNCTUAL_LIGHTS_MAX`] punctual lights).

@@ -289,6 +289,13 @@ impl GpuScene {
         ]
     }
 
+    /// Whether the scene has a light tree to pick lights through: more punctual lights than
+    /// are all evaluated ([`layout::ALL_PUNCTUAL_LIGHTS_MAX`]), or more emissive triangles
+    /// than are picked by power alone ([`layout::AREA_LIGHTS_BY_POWER_MAX`]).
+    pub fn light_trees(&self) -> bool {
+        self.info.area_tree != layout::NO_INDEX || self.info.punctual_tree != layout::NO_INDEX
+    }
+
     /// Why the scene is not on the GPU whole: a BVH array, the vertices, indices or materials,
     /// a light table or an environment array larger than the device's largest texture.
     pub fn overflow(&self) -> Option<&TexelOverflow> {
@@ -504,8 +511,12 @@ pub fn upload_gpu_scene(
         info.area_count = table.len() as u32;
         info.env_pmf = env_pmf;
         scene.area_first = first;
-        let bounds: Vec<_> = bounds.into_iter().map(Some).collect();
-        scene.area_tree = FlatTree::build(&bounds);
+        scene.area_tree = if bounds.len() > layout::AREA_LIGHTS_BY_POWER_MAX {
+            let bounds: Vec<_> = bounds.into_iter().map(Some).collect();
+            FlatTree::build(&bounds)
+        } else {
+            FlatTree::default()
+        };
         put_texels!(scene, stats, realloc, area_lights, &table);
     }
     if fresh || lights_changed || area_changed {
