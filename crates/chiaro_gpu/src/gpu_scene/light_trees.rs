@@ -1,6 +1,7 @@
 //! The light trees on the GPU: chiaro_shading's [`LightTree`] over the area table's emissive
-//! triangles (when there are more than [`super::layout::AREA_LIGHTS_BY_POWER_MAX`]) and one over the point and spot lights (when there are more punctual lights than
-//! the direct pass evaluates one by one), flattened into one node buffer, area tree first.
+//! triangles (when there are more than [`super::layout::AREA_LIGHTS_BY_POWER_MAX`]) and one
+//! over the point and spot lights (when there are more punctual lights than the direct pass
+//! evaluates one by one), flattened into one node buffer, area tree first.
 //!
 //! Each tree is laid out with its `n - 1` inner nodes first (root at 0, in the CPU tree's
 //! order) and then its `n` leaves in the order of its lights, so the leaf of light `k` is node
