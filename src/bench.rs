@@ -1,5 +1,5 @@
 //! `chiaro bench`: speed against error of the GPU frame's configurations, per scene, against
-//! the converged CPU reference; writes results.json, results.md and the plots.
+//! the converged reference; writes results.json, results.md and the plots.
 
 use std::path::PathBuf;
 
@@ -8,8 +8,8 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use chiaro::eval::bench::{
-    BenchProgress, BenchScene, BenchSettings, default_configs, default_scenes, extra_configs,
-    run_bench, write_outputs,
+    BenchProgress, BenchScene, BenchSettings, ReferenceRenderer, default_configs, default_scenes,
+    extra_configs, run_bench, write_outputs,
 };
 
 /// What `chiaro bench` takes.
@@ -34,6 +34,11 @@ pub struct BenchArgs {
     /// Samples per pixel of the converged references (cached in OUT/cache).
     #[arg(long, default_value_t = 1024)]
     reference_spp: u32,
+    /// What renders the converged references: cpu, the CPU reference path tracer (code apart
+    /// from the GPU frame under test); or gpu, the GPU reference mode in two halves of other
+    /// seeds, for a real GPU at sizes where the CPU would take far longer than the runs.
+    #[arg(long, value_enum, default_value_t = ReferenceArg::Cpu)]
+    reference: ReferenceArg,
     /// Frames rendered before timing starts.
     #[arg(long, default_value_t = 2)]
     warmup: u32,
@@ -47,6 +52,15 @@ pub struct BenchArgs {
     /// camera looks to the side and back between checkpoints).
     #[arg(long)]
     no_camera_path: bool,
+}
+
+/// `--reference`'s values.
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum ReferenceArg {
+    /// The CPU reference path tracer.
+    Cpu,
+    /// The GPU frame's reference mode.
+    Gpu,
 }
 
 /// Runs the benchmark, showing progress, and prints the markdown table.
@@ -86,6 +100,10 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         height: args.size.1,
         checkpoints: args.checkpoints.clone(),
         reference_spp: args.reference_spp,
+        reference_renderer: match args.reference {
+            ReferenceArg::Cpu => ReferenceRenderer::Cpu,
+            ReferenceArg::Gpu => ReferenceRenderer::Gpu,
+        },
         cache_dir: args.out.join("cache"),
         warmup_frames: args.warmup,
         camera_path: !args.no_camera_path,

@@ -156,3 +156,88 @@ fn bench_refuses_checkpoints_out_of_order() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The one converged reference a bench run in `dir` cached.
+fn cached_reference(dir: &Path) -> Vec<glam::Vec3> {
+    let exr = std::fs::read_dir(dir.join("cache"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|x| x == "exr"))
+        .unwrap();
+    chiaro::reference::read_exr(&exr).unwrap().2
+}
+
+#[test]
+fn a_gpu_drawn_reference_agrees_with_the_cpu_reference_to_their_noise() {
+    let run = |drawn_by: &str| {
+        let dir = std::env::temp_dir().join(format!(
+            "chiaro_cli_bench_{drawn_by}_ref_{}",
+            std::process::id()
+        ));
+        std::fs::remove_dir_all(&dir).ok();
+        let out = chiaro(&[
+            "bench",
+            "--scenes",
+            "builtin:cornell",
+            "--size",
+            "16x12",
+            "--reference-spp",
+            "64",
+            "--reference",
+            drawn_by,
+            "--configs",
+            "reference",
+            "--no-camera-path",
+            "--checkpoints",
+            "1,4",
+            "--warmup",
+            "0",
+            "--out",
+            dir.to_str().unwrap(),
+        ]);
+        (dir, out)
+    };
+    let (cpu_dir, out) = run("cpu");
+    if gpu_missing(&out) {
+        return;
+    }
+    let (gpu_dir, gpu_out) = run("gpu");
+    for out in [&out, &gpu_out] {
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    let (cpu, gpu) = (results(&cpu_dir), results(&gpu_dir));
+    assert_eq!(cpu["reference_renderer"], "CPU reference");
+    assert_eq!(gpu["reference_renderer"], "GPU reference mode");
+    let noise = |r: &Value| r["scenes"][0]["reference_noise"].as_f64().unwrap();
+    let (cpu_noise, gpu_noise) = (noise(&cpu), noise(&gpu));
+    assert!(gpu_noise > 0.0 && gpu_noise.is_finite(), "{gpu}");
+    // Two estimates of the same image at the same sample count: noise of the same size.
+    assert!(
+        (0.25..4.0).contains(&(gpu_noise / cpu_noise)),
+        "GPU reference noise {gpu_noise:.3e} against the CPU's {cpu_noise:.3e}"
+    );
+    // Independent estimates of the same image differ by about the sum of their noise; a bias
+    // of either would add to it.
+    let between = chiaro::eval::metrics::rel_mse(
+        &cached_reference(&gpu_dir),
+        &cached_reference(&cpu_dir),
+        0.01,
+    );
+    assert!(
+        between < 3.0 * (cpu_noise + gpu_noise),
+        "relMSE {between:.3e} between the GPU and CPU references, noise {cpu_noise:.3e} and \
+         {gpu_noise:.3e}"
+    );
+    // The GPU reference mode's own run draws other random numbers than the reference's.
+    let first = gpu["scenes"][0]["runs"][0]["checkpoints"][0]["rel_mse"]
+        .as_f64()
+        .unwrap();
+    assert!(first > gpu_noise, "{gpu}");
+    for dir in [cpu_dir, gpu_dir] {
+        std::fs::remove_dir_all(&dir).ok();
+    }
+}

@@ -1,5 +1,5 @@
-//! `chiaro bench`: speed against error. For each scene, the converged CPU reference (cached on
-//! disk), then each GPU configuration from a fresh start on a static camera: the wall time of
+//! `chiaro bench`: speed against error. For each scene, the converged reference (by default
+//! the CPU reference's; cached on disk), then each GPU configuration from a fresh start on a static camera: the wall time of
 //! every frame and the median time of each pass, and relMSE and mean LDR-FLIP against the
 //! reference after each checkpoint's frame count; then the realtime configuration along a
 //! scripted camera path ([`camera_path`]), measured after each checkpoint against the same
@@ -27,7 +27,7 @@ use thiserror::Error;
 use crate::{CompareSettings, EvalError, HdrImage, compare};
 use camera_path::{PATH_CONFIG, camera_transform, pan_at, set_pan};
 use chiaro_scene::Transform;
-pub use reference_cache::{Reference, converged_reference};
+pub use reference_cache::{Reference, ReferenceRenderer, converged_reference};
 use results::{BenchResults, Checkpoint, RunResult, SceneResult};
 
 /// Why a benchmark stopped.
@@ -260,6 +260,8 @@ pub struct BenchSettings {
     pub checkpoints: Vec<u32>,
     /// Samples per pixel of the converged reference.
     pub reference_spp: u32,
+    /// What draws the converged references.
+    pub reference_renderer: ReferenceRenderer,
     /// Where the references are cached.
     pub cache_dir: PathBuf,
     /// Frames rendered and thrown away before timing (pipelines and caches warm).
@@ -314,55 +316,69 @@ fn measure(
             },
         )?;
     }
-    let compare_settings = CompareSettings::default();
+    // On a real GPU the comparisons (FLIP takes most of a second at 1920x1080) run on other
+    // cores while the GPU renders on; on a CPU adapter (lavapipe) they run between frames, so
+    // that they take no cores from the frames being timed.
+    let in_background = renderer.context.info.device_type != wgpu::DeviceType::Cpu;
     let mut frame_ms = Vec::new();
     let mut pass_ms: Vec<(String, Vec<f64>)> = Vec::new();
     let mut gpu_timestamps = false;
-    let mut checkpoints = Vec::new();
     let mut seconds = 0.0;
     let last = settings.checkpoints.last().copied().unwrap_or(1);
-    for frame in 1..=last {
-        if let Some(base) = path {
-            set_pan(world, base, pan_at(frame, &settings.checkpoints));
-        }
-        let start = Instant::now();
-        let times = if frame == 1 {
-            renderer
-                .render(
-                    world,
-                    &RenderSettings {
-                        frames: 1,
-                        ..render
-                    },
-                )?
-                .times
-        } else {
-            renderer.accumulate(world, &render, 1)?
-        };
-        let elapsed = start.elapsed().as_secs_f64();
-        seconds += elapsed;
-        frame_ms.push(elapsed * 1e3);
-        for t in &times {
-            gpu_timestamps = t.gpu_timestamps;
-            for (i, (name, ms)) in t.passes.iter().enumerate() {
-                match pass_ms.get_mut(i) {
-                    Some((_, all)) => all.push(*ms),
-                    None => pass_ms.push(((*name).to_owned(), vec![*ms])),
+    let checkpoints = std::thread::scope(|scope| -> Result<Vec<Checkpoint>, BenchError> {
+        let mut pending = Vec::new();
+        for frame in 1..=last {
+            if let Some(base) = path {
+                set_pan(world, base, pan_at(frame, &settings.checkpoints));
+            }
+            let start = Instant::now();
+            let times = if frame == 1 {
+                renderer
+                    .render(
+                        world,
+                        &RenderSettings {
+                            frames: 1,
+                            ..render
+                        },
+                    )?
+                    .times
+            } else {
+                renderer.accumulate(world, &render, 1)?
+            };
+            let elapsed = start.elapsed().as_secs_f64();
+            seconds += elapsed;
+            frame_ms.push(elapsed * 1e3);
+            for t in &times {
+                gpu_timestamps = t.gpu_timestamps;
+                for (i, (name, ms)) in t.passes.iter().enumerate() {
+                    match pass_ms.get_mut(i) {
+                        Some((_, all)) => all.push(*ms),
+                        None => pass_ms.push(((*name).to_owned(), vec![*ms])),
+                    }
                 }
             }
+            if let Some(k) = settings.checkpoints.iter().position(|c| *c == frame) {
+                let output = renderer.read(&render)?;
+                let image = HdrImage::new(&config.name, output.width, output.height, output.hdr)?;
+                let reference = references[k];
+                let measure_at = move || -> Result<Checkpoint, BenchError> {
+                    let metrics = compare(&image, reference, &CompareSettings::default())?.metrics;
+                    Ok(Checkpoint {
+                        frames: frame,
+                        seconds,
+                        rel_mse: metrics.rel_mse,
+                        flip_mean: metrics.flip_mean,
+                    })
+                };
+                pending.push(if in_background {
+                    Pending::Running(scope.spawn(measure_at))
+                } else {
+                    Pending::Done(measure_at())
+                });
+            }
         }
-        if let Some(k) = settings.checkpoints.iter().position(|c| *c == frame) {
-            let output = renderer.read(&render)?;
-            let image = HdrImage::new(&config.name, output.width, output.height, output.hdr)?;
-            let metrics = compare(&image, references[k], &compare_settings)?.metrics;
-            checkpoints.push(Checkpoint {
-                frames: frame,
-                seconds,
-                rel_mse: metrics.rel_mse,
-                flip_mean: metrics.flip_mean,
-            });
-        }
-    }
+        pending.into_iter().map(Pending::finish).collect()
+    })?;
     if let Some(base) = path {
         set_pan(world, base, 0.0);
     }
@@ -376,6 +392,21 @@ fn measure(
         gpu_timestamps,
         checkpoints,
     })
+}
+
+/// A checkpoint's comparison: measured already, or running on another thread.
+enum Pending<'scope> {
+    Done(Result<Checkpoint, BenchError>),
+    Running(std::thread::ScopedJoinHandle<'scope, Result<Checkpoint, BenchError>>),
+}
+
+impl Pending<'_> {
+    fn finish(self) -> Result<Checkpoint, BenchError> {
+        match self {
+            Pending::Done(result) => result,
+            Pending::Running(handle) => handle.join().expect("a comparison does not panic"),
+        }
+    }
 }
 
 /// The realtime configuration along the camera path, against the scene's converged reference
@@ -423,6 +454,11 @@ pub fn run_bench(
         height: settings.height,
         rel_mse_epsilon: CompareSettings::default().rel_mse_epsilon,
         flip_tonemapping: "Khronos PBR Neutral, exposure 1, 67 pixels per degree".into(),
+        reference_renderer: match settings.reference_renderer {
+            ReferenceRenderer::Cpu => "CPU reference",
+            ReferenceRenderer::Gpu => "GPU reference mode",
+        }
+        .into(),
         scenes: Vec::new(),
     };
     for scene in scenes {
@@ -431,9 +467,9 @@ pub fn run_bench(
         let reference = converged_reference(
             scene,
             &mut world,
-            settings.width,
-            settings.height,
-            settings.reference_spp,
+            (settings.width, settings.height, settings.reference_spp),
+            settings.reference_renderer,
+            renderer,
             &settings.cache_dir,
         )?;
         let mut runs = Vec::new();

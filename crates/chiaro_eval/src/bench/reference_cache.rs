@@ -1,21 +1,41 @@
-//! The converged reference of a benchmark scene, rendered once by the CPU reference path
-//! tracer and cached on disk under a hash of everything that decides its pixels.
+//! The converged reference of a benchmark scene, rendered once (by the CPU reference path
+//! tracer, or by the GPU frame's reference mode where the CPU would take far too long) and
+//! cached on disk under a hash of everything that decides its pixels.
 
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use bevy_ecs::world::World;
+use chiaro_gpu::{FrameSettings, RenderMode, Renderer};
 use chiaro_reference::{PathSettings, RenderSettings, read_exr, render_world, write_exr};
 use chiaro_scene::SceneInfo;
+use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use super::{BenchError, BenchScene};
 use crate::HdrImage;
+use crate::metrics::rel_mse;
 
 /// The seed of every converged reference (the GPU runs use other seeds, so the two share no
 /// random numbers).
 const REFERENCE_SEED: u64 = 0x005e_ed0f_7e57;
+
+/// Which renderer draws the converged references.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ReferenceRenderer {
+    /// The CPU reference path tracer on every core: code apart from the GPU frame under test.
+    #[default]
+    Cpu,
+    /// The GPU frame's reference mode, in two halves of other seeds than the runs': for a
+    /// real GPU at sizes where the CPU reference would take many times longer than the runs
+    /// (the hard-case suite tests that the two references agree).
+    Gpu,
+}
+
+/// Samples per pixel in one frame of a GPU reference (a frame's work stays well under a
+/// second on a real GPU at 1920x1080, far from any driver watchdog).
+const GPU_REFERENCE_SPP_PER_FRAME: u32 = 16;
 
 /// A converged reference and what is known of its own noise.
 pub struct Reference {
@@ -58,12 +78,18 @@ fn file_stamp(path: &Path) -> String {
 /// triangles, materials, lights, camera, bounds, environment, so that a scene that changed
 /// under the same name, a built-in one included, is rendered again), its environment file (by
 /// path, size and content hash), the image size, the sample count, the seed, the path
-/// settings, the chiaro version.
-fn cache_key(scene: &BenchScene, held: &SceneInfo, width: u32, height: u32, spp: u32) -> String {
+/// settings, the chiaro version, and `drawn_by`: which renderer (for the GPU, on which
+/// adapter).
+fn cache_key(
+    scene: &BenchScene,
+    held: &SceneInfo,
+    (width, height, spp): (u32, u32, u32),
+    drawn_by: &str,
+) -> String {
     let file = (!scene.scene.starts_with("builtin:")).then(|| file_stamp(Path::new(&scene.scene)));
     let env = scene.env.as_deref().map(file_stamp);
     format!(
-        "{} {file:?} {held:?} {env:?} {width}x{height} {spp} {REFERENCE_SEED} {:?} {}",
+        "{} {file:?} {held:?} {env:?} {width}x{height} {spp} {REFERENCE_SEED} {:?} {} {drawn_by}",
         scene.scene,
         PathSettings::default(),
         env!("CARGO_PKG_VERSION")
@@ -76,17 +102,22 @@ fn cache_path(cache_dir: &Path, key: &str) -> PathBuf {
 }
 
 /// The converged reference of `scene` (loaded in `world`) at `width` x `height` with `spp`
-/// samples per pixel: read from `cache_dir` when it is there, else rendered (on every core)
-/// and stored.
+/// samples per pixel, drawn by `drawn_by` (the GPU one with `renderer`): read from
+/// `cache_dir` when it is there, else rendered and stored.
 pub fn converged_reference(
     scene: &BenchScene,
     world: &mut World,
-    width: u32,
-    height: u32,
-    spp: u32,
+    (width, height, spp): (u32, u32, u32),
+    drawn_by: ReferenceRenderer,
+    renderer: &mut Renderer,
     cache_dir: &Path,
 ) -> Result<Reference, BenchError> {
-    let key = cache_key(scene, &SceneInfo::gather(world), width, height, spp);
+    let renderer_key = match drawn_by {
+        ReferenceRenderer::Cpu => "cpu".to_owned(),
+        ReferenceRenderer::Gpu => format!("gpu {}", renderer.context.describe()),
+    };
+    let held = SceneInfo::gather(world);
+    let key = cache_key(scene, &held, (width, height, spp), &renderer_key);
     let path = cache_path(cache_dir, &key);
     let sidecar_path = path.with_extension("json");
     if let (Ok(text), true) = (fs::read_to_string(&sidecar_path), path.exists())
@@ -101,28 +132,64 @@ pub fn converged_reference(
             cached: true,
         });
     }
-    let settings = RenderSettings {
-        width,
-        height,
-        spp,
-        seed: REFERENCE_SEED,
-        ..RenderSettings::default()
-    };
     let start = Instant::now();
-    let output = render_world(world, &settings, false)?;
+    let (pixels, noise) = match drawn_by {
+        ReferenceRenderer::Cpu => {
+            let settings = RenderSettings {
+                width,
+                height,
+                spp,
+                seed: REFERENCE_SEED,
+                ..RenderSettings::default()
+            };
+            let output = render_world(world, &settings, false)?;
+            let noise = output.halves_rel_mse() / 4.0;
+            (output.image, noise)
+        }
+        ReferenceRenderer::Gpu => {
+            let size = (width, height, spp / 2);
+            let a = gpu_half(renderer, world, size, REFERENCE_SEED)?;
+            let b = gpu_half(renderer, world, size, REFERENCE_SEED + 1)?;
+            let noise = rel_mse(&a, &b, 0.01) / 4.0;
+            let mean = a.iter().zip(&b).map(|(x, y)| (*x + *y) * 0.5).collect();
+            (mean, noise)
+        }
+    };
     let seconds = start.elapsed().as_secs_f64();
-    let noise = output.halves_rel_mse() / 4.0;
     fs::create_dir_all(cache_dir).map_err(|e| BenchError::io(cache_dir, &e))?;
-    write_exr(&path, width, height, &output.image)?;
+    write_exr(&path, width, height, &pixels)?;
     let sidecar = serde_json::to_string(&Sidecar { noise, seconds }).expect("plain numbers");
     fs::write(&sidecar_path, sidecar).map_err(|e| BenchError::io(&sidecar_path, &e))?;
-    let image = HdrImage::new(&scene.label(), width, height, output.image)?;
+    let image = HdrImage::new(&scene.label(), width, height, pixels)?;
     Ok(Reference {
         image,
         noise,
         seconds,
         cached: false,
     })
+}
+
+/// One half of a GPU reference: the reference mode at `spp` samples per pixel (rounded up to
+/// whole frames of [`GPU_REFERENCE_SPP_PER_FRAME`]) from `seed`.
+fn gpu_half(
+    renderer: &mut Renderer,
+    world: &mut World,
+    (width, height, spp): (u32, u32, u32),
+    seed: u64,
+) -> Result<Vec<Vec3>, BenchError> {
+    let per_frame = GPU_REFERENCE_SPP_PER_FRAME.min(spp);
+    let settings = chiaro_gpu::RenderSettings {
+        width,
+        height,
+        frames: spp.div_ceil(per_frame),
+        seed,
+        frame: FrameSettings {
+            mode: RenderMode::Reference,
+            spp: per_frame,
+            ..FrameSettings::default()
+        },
+    };
+    Ok(renderer.render(world, &settings)?.hdr)
 }
 
 #[cfg(test)]
@@ -134,22 +201,28 @@ mod tests {
         let scene = BenchScene::builtin("builtin:cornell");
         let mut world = scene.load().unwrap();
         let held = SceneInfo::gather(&mut world);
-        let base = cache_key(&scene, &held, 64, 64, 16);
-        assert_ne!(base, cache_key(&scene, &held, 64, 32, 16));
-        assert_ne!(base, cache_key(&scene, &held, 64, 64, 32));
+        let base = cache_key(&scene, &held, (64, 64, 16), "cpu");
+        assert_ne!(base, cache_key(&scene, &held, (64, 32, 16), "cpu"));
+        assert_ne!(base, cache_key(&scene, &held, (64, 64, 32), "cpu"));
+        assert_ne!(base, cache_key(&scene, &held, (64, 64, 16), "gpu"));
         assert_ne!(
             base,
-            cache_key(&BenchScene::builtin("builtin:furnace"), &held, 64, 64, 16)
+            cache_key(
+                &BenchScene::builtin("builtin:furnace"),
+                &held,
+                (64, 64, 16),
+                "cpu"
+            )
         );
         let lit = BenchScene {
             env: Some(PathBuf::from("sky.hdr")),
             ..scene.clone()
         };
-        assert_ne!(base, cache_key(&lit, &held, 64, 64, 16));
-        assert_eq!(base, cache_key(&scene, &held, 64, 64, 16));
+        assert_ne!(base, cache_key(&lit, &held, (64, 64, 16), "cpu"));
+        assert_eq!(base, cache_key(&scene, &held, (64, 64, 16), "cpu"));
         // The same name holding another scene (as a built-in scene changed by a new build).
         let other = SceneInfo::gather(&mut BenchScene::builtin("builtin:furnace").load().unwrap());
-        assert_ne!(base, cache_key(&scene, &other, 64, 64, 16));
+        assert_ne!(base, cache_key(&scene, &other, (64, 64, 16), "cpu"));
     }
 
     #[test]
@@ -170,7 +243,7 @@ mod tests {
         };
         let held = SceneInfo::gather(&mut BenchScene::builtin("builtin:cornell").load().unwrap());
         fs::write(&file, b"glTF one").unwrap();
-        let base = cache_key(&scene, &held, 64, 64, 16);
+        let base = cache_key(&scene, &held, (64, 64, 16), "cpu");
         // The same bytes written again, with a modification time a day older.
         fs::write(&file, b"glTF one").unwrap();
         let day_ago = std::time::SystemTime::now() - std::time::Duration::from_secs(86_400);
@@ -180,10 +253,10 @@ mod tests {
             .unwrap()
             .set_modified(day_ago)
             .unwrap();
-        assert_eq!(base, cache_key(&scene, &held, 64, 64, 16));
+        assert_eq!(base, cache_key(&scene, &held, (64, 64, 16), "cpu"));
         // Other bytes of the same size.
         fs::write(&file, b"glTF two").unwrap();
-        assert_ne!(base, cache_key(&scene, &held, 64, 64, 16));
+        assert_ne!(base, cache_key(&scene, &held, (64, 64, 16), "cpu"));
         fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -18,6 +18,8 @@ pub struct BenchResults {
     pub rel_mse_epsilon: f32,
     /// How the 8-bit images FLIP reads were made.
     pub flip_tonemapping: String,
+    /// What drew the converged references ("CPU reference" or "GPU reference mode").
+    pub reference_renderer: String,
     /// Per scene.
     pub scenes: Vec<SceneResult>,
 }
@@ -27,7 +29,7 @@ pub struct BenchResults {
 pub struct SceneResult {
     /// The scene, with its environment when it has one.
     pub scene: String,
-    /// Samples per pixel of the converged CPU reference.
+    /// Samples per pixel of the converged reference.
     pub reference_spp: u32,
     /// The reference's own relMSE noise (a quarter of the relMSE between its halves): errors
     /// near it are limited by the reference.
@@ -136,14 +138,15 @@ impl BenchResults {
     pub fn to_markdown(&self) -> String {
         let mut md = format!(
             "Adapter: {}; driver: {}; {}x{}. Error: relMSE (linear HDR, epsilon {}) and mean \
-             LDR-FLIP ({}) against the converged CPU reference, static camera; time: median \
+             LDR-FLIP ({}) against the converged reference ({}), static camera; time: median \
              wall time per frame, and per pass (ms).\n",
             self.adapter,
             self.driver,
             self.width,
             self.height,
             self.rel_mse_epsilon,
-            self.flip_tonemapping
+            self.flip_tonemapping,
+            self.reference_renderer
         );
         for scene in &self.scenes {
             md += &format!(
@@ -247,6 +250,7 @@ mod tests {
             height: 8,
             rel_mse_epsilon: 0.01,
             flip_tonemapping: "t".into(),
+            reference_renderer: "CPU reference".into(),
             scenes: vec![SceneResult {
                 scene: "builtin:cornell".into(),
                 reference_spp: 4,
