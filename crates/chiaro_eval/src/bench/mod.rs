@@ -1,6 +1,7 @@
 //! `chiaro bench`: speed against error. For each scene, the converged reference (by default
-//! the CPU reference's; cached on disk), then each GPU configuration from a fresh start on a static camera: the wall time of
-//! every frame and the median time of each pass, and relMSE and mean LDR-FLIP against the
+//! the CPU reference path tracer's, or the GPU reference mode's: [`ReferenceRenderer`]; cached
+//! on disk), then each GPU configuration from a fresh start on a static camera: the wall time
+//! of every frame and the median time of each pass, and relMSE and mean LDR-FLIP against the
 //! reference after each checkpoint's frame count; then the realtime configuration along a
 //! scripted camera path ([`camera_path`]), measured after each checkpoint against the same
 //! converged reference, every checkpoint being at the camera's own pose (`realtime-path`).

@@ -43,7 +43,7 @@ pub struct Reference {
     pub image: HdrImage,
     /// Its own relMSE noise: a quarter of the relMSE between its two independent halves.
     pub noise: f64,
-    /// Seconds the CPU reference took (when it was rendered, not read from the cache).
+    /// Seconds the reference took (when it was rendered, not read from the cache).
     pub seconds: f64,
     /// True when it was read from the cache.
     pub cached: bool,
