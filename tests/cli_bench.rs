@@ -10,22 +10,25 @@ use common::{chiaro, gpu_missing};
 
 use serde_json::Value;
 
-fn bench(dir: &Path) -> std::process::Output {
-    chiaro(&[
+/// `chiaro bench` on the Cornell box at 16x12 into `dir`, without warm-up, with `extra`.
+fn tiny_bench(dir: &Path, extra: &[&str]) -> std::process::Output {
+    let mut args = vec![
         "bench",
         "--scenes",
         "builtin:cornell",
         "--size",
         "16x12",
-        "--reference-spp",
-        "8",
-        "--checkpoints",
-        "1,2,4",
         "--warmup",
         "0",
         "--out",
         dir.to_str().unwrap(),
-    ])
+    ];
+    args.extend_from_slice(extra);
+    chiaro(&args)
+}
+
+fn bench(dir: &Path) -> std::process::Output {
+    tiny_bench(dir, &["--reference-spp", "8", "--checkpoints", "1,2,4"])
 }
 
 fn results(dir: &Path) -> Value {
@@ -175,26 +178,20 @@ fn a_gpu_drawn_reference_agrees_with_the_cpu_reference_to_their_noise() {
             std::process::id()
         ));
         std::fs::remove_dir_all(&dir).ok();
-        let out = chiaro(&[
-            "bench",
-            "--scenes",
-            "builtin:cornell",
-            "--size",
-            "16x12",
-            "--reference-spp",
-            "64",
-            "--reference",
-            drawn_by,
-            "--configs",
-            "reference",
-            "--no-camera-path",
-            "--checkpoints",
-            "1,4",
-            "--warmup",
-            "0",
-            "--out",
-            dir.to_str().unwrap(),
-        ]);
+        let out = tiny_bench(
+            &dir,
+            &[
+                "--reference-spp",
+                "64",
+                "--reference",
+                drawn_by,
+                "--configs",
+                "reference",
+                "--no-camera-path",
+                "--checkpoints",
+                "1,4",
+            ],
+        );
         (dir, out)
     };
     let (cpu_dir, out) = run("cpu");
