@@ -33,10 +33,6 @@ pub enum ReferenceRenderer {
     Gpu,
 }
 
-/// Samples per pixel in one frame of a GPU reference (a frame's work stays well under a
-/// second on a real GPU at 1920x1080, far from any driver watchdog).
-const GPU_REFERENCE_SPP_PER_FRAME: u32 = 16;
-
 /// A converged reference and what is known of its own noise.
 pub struct Reference {
     /// The linear HDR image.
@@ -169,23 +165,23 @@ pub fn converged_reference(
     })
 }
 
-/// One half of a GPU reference: the reference mode at `spp` samples per pixel (rounded up to
-/// whole frames of [`GPU_REFERENCE_SPP_PER_FRAME`]) from `seed`.
+/// One half of a GPU reference: the reference mode for `spp` frames of one sample per pixel
+/// from `seed`. One frame draws the camera ray and its direct light once whatever its `spp`
+/// (which multiplies only the indirect paths), so every sample is a frame of its own.
 fn gpu_half(
     renderer: &mut Renderer,
     world: &mut World,
     (width, height, spp): (u32, u32, u32),
     seed: u64,
 ) -> Result<Vec<Vec3>, BenchError> {
-    let per_frame = GPU_REFERENCE_SPP_PER_FRAME.min(spp);
     let settings = chiaro_gpu::RenderSettings {
         width,
         height,
-        frames: spp.div_ceil(per_frame),
+        frames: spp,
         seed,
         frame: FrameSettings {
             mode: RenderMode::Reference,
-            spp: per_frame,
+            spp: 1,
             ..FrameSettings::default()
         },
     };
