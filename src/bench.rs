@@ -63,6 +63,15 @@ enum ReferenceArg {
     Gpu,
 }
 
+impl From<ReferenceArg> for ReferenceRenderer {
+    fn from(arg: ReferenceArg) -> Self {
+        match arg {
+            ReferenceArg::Cpu => ReferenceRenderer::Cpu,
+            ReferenceArg::Gpu => ReferenceRenderer::Gpu,
+        }
+    }
+}
+
 /// Runs the benchmark, showing progress, and prints the markdown table.
 pub fn run(args: &BenchArgs) -> Result<()> {
     let scenes: Vec<BenchScene> = if args.scenes.is_empty() {
@@ -100,10 +109,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         height: args.size.1,
         checkpoints: args.checkpoints.clone(),
         reference_spp: args.reference_spp,
-        reference_renderer: match args.reference {
-            ReferenceArg::Cpu => ReferenceRenderer::Cpu,
-            ReferenceArg::Gpu => ReferenceRenderer::Gpu,
-        },
+        reference_renderer: args.reference.into(),
         cache_dir: args.out.join("cache"),
         warmup_frames: args.warmup,
         camera_path: !args.no_camera_path,

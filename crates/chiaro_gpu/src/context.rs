@@ -264,6 +264,12 @@ impl GpuContext {
             self.info.name, self.info.backend, self.info.device_type
         )
     }
+
+    /// Whether the adapter runs on the CPU (lavapipe, llvmpipe): its work takes the cores
+    /// that anything else running beside it would.
+    pub fn runs_on_cpu(&self) -> bool {
+        self.info.device_type == wgpu::DeviceType::Cpu
+    }
 }
 
 #[cfg(test)]

@@ -320,7 +320,7 @@ fn measure(
     // On a real GPU the comparisons (FLIP takes most of a second at 1920x1080) run on other
     // cores while the GPU renders on; on a CPU adapter (lavapipe) they run between frames, so
     // that they take no cores from the frames being timed.
-    let in_background = renderer.context.info.device_type != wgpu::DeviceType::Cpu;
+    let in_background = !renderer.context.runs_on_cpu();
     let mut frame_ms = Vec::new();
     let mut pass_ms: Vec<(String, Vec<f64>)> = Vec::new();
     let mut gpu_timestamps = false;
@@ -455,11 +455,7 @@ pub fn run_bench(
         height: settings.height,
         rel_mse_epsilon: CompareSettings::default().rel_mse_epsilon,
         flip_tonemapping: "Khronos PBR Neutral, exposure 1, 67 pixels per degree".into(),
-        reference_renderer: match settings.reference_renderer {
-            ReferenceRenderer::Cpu => "CPU reference",
-            ReferenceRenderer::Gpu => "GPU reference mode",
-        }
-        .into(),
+        reference_renderer: settings.reference_renderer.name().into(),
         scenes: Vec::new(),
     };
     for scene in scenes {

@@ -33,6 +33,16 @@ pub enum ReferenceRenderer {
     Gpu,
 }
 
+impl ReferenceRenderer {
+    /// Its name in the results.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Cpu => "CPU reference",
+            Self::Gpu => "GPU reference mode",
+        }
+    }
+}
+
 /// A converged reference and what is known of its own noise.
 pub struct Reference {
     /// The linear HDR image.
@@ -109,8 +119,8 @@ pub fn converged_reference(
     cache_dir: &Path,
 ) -> Result<Reference, BenchError> {
     let renderer_key = match drawn_by {
-        ReferenceRenderer::Cpu => "cpu".to_owned(),
-        ReferenceRenderer::Gpu => format!("gpu {}", renderer.context.describe()),
+        ReferenceRenderer::Cpu => drawn_by.name().to_owned(),
+        ReferenceRenderer::Gpu => format!("{} {}", drawn_by.name(), renderer.context.describe()),
     };
     let held = SceneInfo::gather(world);
     let key = cache_key(scene, &held, (width, height, spp), &renderer_key);

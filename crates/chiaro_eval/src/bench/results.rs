@@ -18,7 +18,7 @@ pub struct BenchResults {
     pub rel_mse_epsilon: f32,
     /// How the 8-bit images FLIP reads were made.
     pub flip_tonemapping: String,
-    /// What drew the converged references ("CPU reference" or "GPU reference mode").
+    /// What drew the converged references ([`super::ReferenceRenderer::name`]).
     pub reference_renderer: String,
     /// Per scene.
     pub scenes: Vec<SceneResult>,
