@@ -3,9 +3,14 @@
 //! - The roughness-0 metal sphere of `builtin:hard-cases?case=spheres` is a clean mirror. Its
 //!   mask: the pixels whose G-buffer position is on that sphere, with their 4 neighbours
 //!   (49 pixels at 64x64). Measured (CPU reference 256 spp, GPU 16 frames of 4 paths):
-//!   - reference mode: relMSE 3.6e-2 on the mirror, below 3 x (GPU + CPU noise on the mirror)
-//!     = 1.2e-1; the mirror adds no noise of its own: two seeds differ on it by a noise of
-//!     3.4e-2, less than on the floor it reflects (8.8e-2, asserted: mirror below floor);
+//!   - reference mode: relMSE 2.5e-2 on the mirror, below 3 x (GPU + CPU noise on the mirror)
+//!     = 7.3e-2; the mirror adds no noise of its own: the GPU's noise there (two seeds,
+//!     1.9e-2) is 3.7 times the CPU reference's (its halves, 5.2e-3), less than the 6.2 times
+//!     on the floor (3.0e-3 against 4.8e-4; asserted: the mirror's ratio below the floor's).
+//!     The ratio leaves out what the mirror shows: it reflects the other spheres as well as
+//!     the floor, and is 10 times noisier than the floor in the CPU reference too. (The
+//!     mirror's own noise used to be compared with the floor's, 3.4e-2 against 8.8e-2, while
+//!     the constant sky was light-sampled, which made the floor noisy.)
 //!   - the realtime frame's paths (denoiser off, 16 paths, one frame) against the CPU
 //!     reference of the same depth (the default bounce cap b: depth b + 1; with b = 3,
 //!     relMSE 2.0e-1 on the mirror, below 3 x noise = 8.6e-1; with b = 2, 9.3e-2 below
@@ -100,9 +105,17 @@ fn the_roughness_0_sphere_is_a_clean_mirror() {
         error < bound,
         "reference mode: mirror relMSE {error} against {bound}"
     );
+    let (mirror_ratio, floor_ratio) = (
+        gpu_noise(&mirror) / cpu_noise(&mirror),
+        gpu_noise(&floor) / cpu_noise(&floor),
+    );
+    eprintln!(
+        "GPU noise over CPU noise: {mirror_ratio:.2} on the mirror, {floor_ratio:.2} on the floor"
+    );
     assert!(
-        gpu_noise(&mirror) < gpu_noise(&floor),
-        "the mirror is noisier than the floor it reflects"
+        mirror_ratio < floor_ratio,
+        "the mirror adds noise of its own: GPU noise {mirror_ratio:.2} x the CPU's there, \
+         {floor_ratio:.2} x on the floor"
     );
 
     // The realtime frame's paths against the CPU reference of the same depth (bounce cap b:

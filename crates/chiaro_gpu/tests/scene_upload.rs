@@ -123,21 +123,36 @@ fn light_and_environment_edits_rewrite_their_tables_only() {
     // The path from the light's leaf to the root, at most: 23 nodes of 64 bytes.
     assert!(edited.bytes_of("scene light tree") <= 23 * 64, "{edited:?}");
 
-    // A constant sky: the environment joins the area-light table and the scene info.
+    // A constant sky: the scene info alone; a constant environment is not light-sampled
+    // (`Environment::light_sampling_radiance`), so the area-light table stays as it was.
     world.insert_resource(chiaro_scene::Environment::constant(Vec3::splat(0.5)));
     schedule.run(&mut world);
     let sky = last(&world);
-    assert_eq!(
-        sky.written(),
-        ["scene area lights", "scene info"],
-        "{sky:?}"
-    );
+    assert_eq!(sky.written(), ["scene info"], "{sky:?}");
     let scene = world.resource::<GpuScene>();
     assert_eq!(
         scene.info.env_kind,
         chiaro_gpu::gpu_scene::layout::ENV_CONSTANT
     );
-    assert!(scene.info.env_pmf > 0.0 && scene.info.env_pmf < 1.0);
+    assert_eq!(scene.info.env_pmf, 0.0);
+
+    // An environment image joins the area-light table, with a share of the picks.
+    let image = chiaro_scene::EquirectImage {
+        path: "sky.hdr".into(),
+        width: 4,
+        height: 2,
+        texels: vec![Vec3::splat(0.5); 8],
+    };
+    world.insert_resource(chiaro_scene::Environment {
+        source: chiaro_scene::EnvironmentSource::Equirect(image),
+        strength: 1.0,
+        rotation: 0.0,
+    });
+    schedule.run(&mut world);
+    let sky = last(&world);
+    assert!(sky.written().contains(&"scene area lights"), "{sky:?}");
+    let env_pmf = world.resource::<GpuScene>().info.env_pmf;
+    assert!(env_pmf > 0.0 && env_pmf < 1.0, "{env_pmf}");
 }
 
 /// The light trees exist only with more than `ALL_PUNCTUAL_LIGHTS_MAX` punctual lights or more

@@ -60,7 +60,7 @@ pub fn prepare(world: &mut World, sampling: LightSampling) -> (SceneBvh, LightTa
     let bvh = SceneBvh::build(world);
     let mean = world
         .get_resource::<Environment>()
-        .map_or(glam::Vec3::ZERO, Environment::mean_radiance);
+        .map_or(glam::Vec3::ZERO, Environment::light_sampling_radiance);
     let lights = LightTable::gather(world, &bvh, mean, sampling);
     (bvh, lights)
 }

@@ -133,17 +133,29 @@ fn point_light_over_a_plane_matches_the_closed_form() {
 fn noise_between_halves_falls_as_one_over_spp() {
     // relMSE between halves divides by a noisy half: at a few samples per half that inflates it
     // (and a pixel on an emitter's edge that sees the light in one half only dominates it), so
-    // the decade starts at 64 spp, on a scene whose emitters are out of view.
-    let settings = |spp| RenderSettings {
-        width: 12,
-        height: 12,
-        spp,
-        seed: 7,
-        ..RenderSettings::default()
+    // the decade starts at 64 spp, on a scene whose emitters are out of view. Each spp's figure
+    // is the mean over three seeds: one seed's halves relMSE at 12x12 strays by tens of percent
+    // (seed 7 alone: slope -0.72; the mean of seeds 7, 8 and 9: -0.97).
+    let halves_noise = |spp| {
+        let seeds = [7, 8, 9];
+        seeds
+            .iter()
+            .map(|&seed| {
+                let settings = RenderSettings {
+                    width: 12,
+                    height: 12,
+                    spp,
+                    seed,
+                    ..RenderSettings::default()
+                };
+                render("builtin:hard-cases?case=lit-group", settings).halves_rel_mse()
+            })
+            .sum::<f64>()
+            / seeds.len() as f64
     };
-    let low = render("builtin:hard-cases?case=lit-group", settings(64)).halves_rel_mse();
-    let high = render("builtin:hard-cases?case=lit-group", settings(640)).halves_rel_mse();
+    let (low, high) = (halves_noise(64), halves_noise(640));
     let slope = (high / low).log10();
+    eprintln!("halves relMSE {low:.3e} at 64 spp, {high:.3e} at 640: slope {slope:.3}");
     assert!(
         (slope + 1.0).abs() <= 0.1,
         "log-log slope {slope} (relMSE {low} at 64 spp, {high} at 640)"
@@ -243,34 +255,42 @@ fn direct_only_is_at_most_the_full_estimate_and_differs_in_the_cornell_box() {
 /// The lit group copied 1e5 units from the origin renders like the original. Same seed: the two
 /// renders draw the same random numbers, so they differ far less than two independent renders
 /// would (paths that diverge by rounding decorrelate after a few bounces); shadow acne or light
-/// leaks in the copy would show as a difference at least as large as independent noise.
+/// leaks in the copy would show as a difference at least as large as independent noise. Summed
+/// over four seeds: one seed's ratio strays (0.26 to 0.51 over seeds 3 to 6, measured).
 #[test]
 fn far_copy_renders_like_the_original() {
-    let settings = RenderSettings {
-        width: 24,
-        height: 24,
-        spp: 16,
-        seed: 3,
-        ..RenderSettings::default()
-    };
-    let near = render("builtin:hard-cases?case=lit-group", settings);
-    let far = render("builtin:hard-cases?case=far-copy", settings);
-    assert_eq!(far.non_finite_samples, 0);
-    let rel_mse: f64 = far
-        .image
-        .iter()
-        .zip(&near.image)
-        .flat_map(|(x, y)| {
-            (0..3).map(move |c| ((x[c] - y[c]) as f64).powi(2) / ((y[c] as f64).powi(2) + 0.01))
-        })
-        .sum::<f64>()
-        / (3 * near.image.len()) as f64;
-    // Two independent renders at this sample count differ by about the halves' relMSE / 2.
-    let independent = near.halves_rel_mse() / 2.0;
+    let (mut rel_mse, mut independent) = (0.0, 0.0);
+    let (mut near_mean, mut far_mean) = (0.0, 0.0);
+    for seed in 3..=6 {
+        let settings = RenderSettings {
+            width: 24,
+            height: 24,
+            spp: 16,
+            seed,
+            ..RenderSettings::default()
+        };
+        let near = render("builtin:hard-cases?case=lit-group", settings);
+        let far = render("builtin:hard-cases?case=far-copy", settings);
+        assert_eq!(far.non_finite_samples, 0);
+        rel_mse += far
+            .image
+            .iter()
+            .zip(&near.image)
+            .flat_map(|(x, y)| {
+                (0..3).map(move |c| ((x[c] - y[c]) as f64).powi(2) / ((y[c] as f64).powi(2) + 0.01))
+            })
+            .sum::<f64>()
+            / (3 * near.image.len()) as f64;
+        // Two independent renders at this sample count differ by about the halves' relMSE / 2.
+        independent += near.halves_rel_mse() / 2.0;
+        near_mean += mean(&near.image);
+        far_mean += mean(&far.image);
+    }
+    eprintln!("same seeds {rel_mse:.3e}, independent {independent:.3e}");
     assert!(
         rel_mse < 0.5 * independent,
-        "relMSE {rel_mse} against the original, independent {independent}"
+        "relMSE {rel_mse} against the original, independent {independent} (sums over 4 seeds)"
     );
-    let (a, b) = (mean(&near.image), mean(&far.image));
+    let (a, b) = (near_mean, far_mean);
     assert!((a - b).abs() < 0.01 * a, "mean {a} near, {b} far");
 }

@@ -147,6 +147,22 @@ impl Environment {
         };
         mean * self.strength
     }
+
+    /// The mean radiance the light tables give the environment its share of light picks by
+    /// ([`Self::mean_radiance`]), or zero to leave it out of light sampling: a constant
+    /// environment is left out, its light found by BRDF sampling alone. Its light samples would be
+    /// uniform over the sphere, half of them below the surface, where BRDF sampling already
+    /// follows the rest of the integrand (f cos); and its share, scaled by the scene's bounding
+    /// radius squared, starves every emitter of picks in a scene that spreads far. pbrt-v4 does
+    /// the same for its uniform infinite light under MIS (Pharr, Jakob and Humphreys, "Physically
+    /// Based Rendering", 4th ed., section 12.5.1, `allowIncompletePDF`). An image environment
+    /// stays: its bright texels (a sun) are what light sampling finds.
+    pub fn light_sampling_radiance(&self) -> Vec3 {
+        match self.source {
+            EnvironmentSource::Constant(_) => Vec3::ZERO,
+            EnvironmentSource::Equirect(_) => self.mean_radiance(),
+        }
+    }
 }
 
 #[cfg(test)]

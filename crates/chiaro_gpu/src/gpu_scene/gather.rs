@@ -260,7 +260,8 @@ pub fn scene_radius(bvh: &SceneBvh) -> f32 {
     }
 }
 
-/// The area-light table (every emissive triangle of every instance, then the environment),
+/// The area-light table (every emissive triangle of every instance, then the environment unless
+/// it is constant: [`Environment::light_sampling_radiance`]),
 /// each instance's first entry ([`NO_INDEX`] when it does not emit), the environment's
 /// probability, and the light tree's bounds of each triangle (entries `0..n` of the table, in
 /// its order: front faces as the CPU reference orients them).
@@ -303,7 +304,8 @@ pub fn area_lights(
         }
     }
     let radius = scene_radius(bvh);
-    let env_power = 4.0 * PI * PI * radius * radius * luminance(environment.mean_radiance());
+    let env_power =
+        4.0 * PI * PI * radius * radius * luminance(environment.light_sampling_radiance());
     if env_power > 0.0 && env_power.is_finite() {
         entries.push(GpuAreaLight {
             instance: NO_INDEX,
