@@ -14,7 +14,8 @@
 // through the light trees (lib/light_tree.wgsl) by its importance to the shading point (its
 // position and shading normal, as chiaro_reference's light table): the environment keeps its
 // power share of the area table and the directional lights theirs of the punctual lights, the
-// rest is the tree's walk. The importer defines
+// rest is the tree's walk. A constant environment is not in the area table (BRDF rays find it;
+// chiaro_scene's Environment::light_sampling_radiance). The importer defines
 //     fn light_tree_sampling() -> bool
 //
 // The environment seen along a ray that leaves the scene is environment_seen.

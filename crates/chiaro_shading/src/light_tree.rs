@@ -221,22 +221,30 @@ pub fn importance(b: &LightBounds, p: Vec3, n: Vec3) -> f32 {
     b.power * cos_emit * cos_receive / distance2
 }
 
-/// The cost of a node holding `power` within a box of extent `size`: the power times the square
-/// of the box's edge sum (its surface area up to a constant for a cube, and unlike the area not
-/// zero for a flat or linear cluster of lights).
-fn split_cost(power: f64, size: Vec3) -> f64 {
-    power * f64::from(size.x + size.y + size.z).powi(2)
+/// Levels of the tree cut by [`split`]'s heuristic; below them, at the median. A heuristic cut
+/// may peel one light off a node at every level, so this bounds the depth: at most
+/// `SAH_LEVELS + ceil(log2 n)`, 56 for 2^32 lights, within the GPU walk's bound of 64
+/// (`shaders/lib/light_tree.wgsl`).
+pub const SAH_LEVELS: usize = 24;
+
+/// The cost of a node holding `count` lights within a box of extent `size`: the count times the
+/// square of the box's edge sum (its surface area up to a constant for a cube, and unlike the
+/// area not zero for a flat or linear cluster of lights).
+fn split_cost(count: usize, size: Vec3) -> f64 {
+    count as f64 * f64::from(size.x + size.y + size.z).powi(2)
 }
 
 /// Orders `items` along the widest axis of their lights' centroids and returns where to cut them
 /// in two: the cut that minimises the children's summed [`split_cost`], a surface area heuristic
-/// weighted by power, which Conty Estevez and Kulla's SAOH is with its orientation term left out
-/// (section 4.4). Clusters of lights far apart land in different subtrees: a median cut put
-/// hard-cases' 1 cm emitter and its copy 1e5 units away under one node whose box held every
-/// point near the emitter, and so was weighed by its power alone, while its sibling was weighed
-/// by distance, which starved the emitter of picks beside it. Ties (lights at one point) go to
-/// the cut nearest the middle.
-fn split(lights: &[LightBounds], items: &mut [u32]) -> usize {
+/// (Conty Estevez and Kulla build with one, section 4.4, weighted by power and orientation).
+/// Clusters of lights far apart land in different subtrees: a median cut put hard-cases' 1 cm
+/// emitter and its copy 1e5 units away under one node whose box held every point near the
+/// emitter, and so was weighed by its power alone, while its sibling was weighed by distance,
+/// which starved the emitter of picks beside it. Not weighted by power: that grouped
+/// many-lights' bright lights apart from the dim ones near them, whatever the distance, and the
+/// CPU reference's noise there grew 27 times (BENCHMARKS.md). Ties (lights at one point) go to
+/// the cut nearest the middle. Without `sah`, the median cut.
+fn split(lights: &[LightBounds], items: &mut [u32], sah: bool) -> usize {
     let centroid = |i: u32| lights[i as usize].centroid();
     let (lo, hi) = items
         .iter()
@@ -246,20 +254,23 @@ fn split(lights: &[LightBounds], items: &mut [u32]) -> usize {
     let axis = (hi - lo).max_position();
     items.sort_unstable_by(|&a, &b| centroid(a)[axis].total_cmp(&centroid(b)[axis]));
     let n = items.len();
+    if !sah {
+        return n / 2;
+    }
     // right[k]: the cost of items[k..] as one node.
     let mut right = vec![0.0; n];
-    let (mut min, mut max, mut power) = (Vec3::INFINITY, Vec3::NEG_INFINITY, 0.0);
+    let (mut min, mut max) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
     for k in (1..n).rev() {
         let b = &lights[items[k] as usize];
-        (min, max, power) = (min.min(b.min), max.max(b.max), power + f64::from(b.power));
-        right[k] = split_cost(power, max - min);
+        (min, max) = (min.min(b.min), max.max(b.max));
+        right[k] = split_cost(n - k, max - min);
     }
-    let (mut min, mut max, mut power) = (Vec3::INFINITY, Vec3::NEG_INFINITY, 0.0);
+    let (mut min, mut max) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
     let mut best = (f64::INFINITY, n / 2);
     for k in 1..n {
         let b = &lights[items[k - 1] as usize];
-        (min, max, power) = (min.min(b.min), max.max(b.max), power + f64::from(b.power));
-        let cost = split_cost(power, max - min) + right[k];
+        (min, max) = (min.min(b.min), max.max(b.max));
+        let cost = split_cost(k, max - min) + right[k];
         let nearer = k.abs_diff(n / 2) < best.1.abs_diff(n / 2);
         if cost < best.0 || (cost == best.0 && nearer) {
             best = (cost, k);
@@ -298,8 +309,8 @@ impl LightTree {
             parent: NO_PARENT,
         });
         // Explicit stack: (node, range of `order`).
-        let mut stack = vec![(0usize, 0usize, lights.len())];
-        while let Some((node, start, end)) = stack.pop() {
+        let mut stack = vec![(0usize, 0usize, lights.len(), 0usize)];
+        while let Some((node, start, end, depth)) = stack.pop() {
             let items = &mut order[start..end];
             if items.len() == 1 {
                 let light = items[0] as usize;
@@ -312,7 +323,7 @@ impl LightTree {
                 tree.leaf_of[light] = node as u32;
                 continue;
             }
-            let mid = split(lights, items);
+            let mid = split(lights, items, depth < SAH_LEVELS);
             let first = tree.nodes.len();
             for _ in 0..2 {
                 tree.nodes.push(LightTreeNode {
@@ -324,8 +335,8 @@ impl LightTree {
             }
             tree.nodes[node].first = first as u32;
             tree.nodes[node].leaf = false;
-            stack.push((first, start, start + mid));
-            stack.push((first + 1, start + mid, end));
+            stack.push((first, start, start + mid, depth + 1));
+            stack.push((first + 1, start + mid, end, depth + 1));
         }
         // Inner bounds bottom-up: children always come after their parent.
         for node in (0..tree.nodes.len()).rev() {
