@@ -157,7 +157,8 @@ enum Mode {
     /// Direct and indirect light, temporal accumulation and a-trous denoising: the real-time
     /// frame (the last frame is the image).
     Realtime,
-    /// Progressive unbiased path tracing on the GPU, the mean of the frames.
+    /// Progressive unbiased path tracing on the GPU, the mean of the frames (each frame one
+    /// camera ray and direct-light estimate a pixel, and --spp indirect paths from it).
     Reference,
     /// Pure path tracing with uniform hemisphere directions and no light sampling (the
     /// baseline), the mean of the frames.

@@ -32,7 +32,9 @@ pub enum RenderMode {
     #[default]
     Realtime,
     /// Progressive unbiased path tracing on the GPU: full depth with Russian roulette, no
-    /// denoising, accumulation until the camera or the scene changes.
+    /// denoising, accumulation until the camera or the scene changes. Each frame draws one
+    /// camera ray and one direct-light estimate a pixel, and `spp` indirect paths from its
+    /// surface: N whole samples a pixel are N frames of `spp` 1.
     Reference,
     /// The baseline of the path tracing notes: uniform hemisphere directions (pdf 1 / 2 pi),
     /// no light sampling, no denoising; accumulated like `Reference`.

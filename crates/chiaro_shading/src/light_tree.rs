@@ -308,7 +308,7 @@ impl LightTree {
             leaf: true,
             parent: NO_PARENT,
         });
-        // Explicit stack: (node, range of `order`).
+        // Explicit stack: (node, range of `order`, depth).
         let mut stack = vec![(0usize, 0usize, lights.len(), 0usize)];
         while let Some((node, start, end, depth)) = stack.pop() {
             let items = &mut order[start..end];
