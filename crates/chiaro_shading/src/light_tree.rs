@@ -252,11 +252,13 @@ fn split(lights: &[LightBounds], items: &mut [u32], sah: bool) -> usize {
             (lo.min(centroid(i)), hi.max(centroid(i)))
         });
     let axis = (hi - lo).max_position();
-    items.sort_unstable_by(|&a, &b| centroid(a)[axis].total_cmp(&centroid(b)[axis]));
+    let order = |a: &u32, b: &u32| centroid(*a)[axis].total_cmp(&centroid(*b)[axis]);
     let n = items.len();
     if !sah {
+        items.select_nth_unstable_by(n / 2, order);
         return n / 2;
     }
+    items.sort_unstable_by(order);
     // right[k]: the cost of items[k..] as one node.
     let mut right = vec![0.0; n];
     let (mut min, mut max) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
