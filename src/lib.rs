@@ -2,8 +2,8 @@
 //!
 //! This crate re-exports the workspace's crates under one name: [`scene`] (the scene as ECS
 //! data, glTF import, built-in scenes), [`shading`] (the shading model), [`bvh`] (BLAS and TLAS
-//! over the scene), [`reference`] (the CPU reference path tracer), [`gpu`] (the wgpu frame
-//! and its headless renderer) and [`eval`] (image metrics against a reference).
+//! over the scene), [`reference`](mod@reference) (the CPU reference path tracer), [`gpu`] (the
+//! wgpu frame and its headless renderer) and [`eval`] (image metrics against a reference).
 //!
 //! ```
 //! use bevy_ecs::world::World;

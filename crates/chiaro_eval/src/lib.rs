@@ -1,7 +1,7 @@
 //! chiaro's image metrics: how far an image is from a reference, by relMSE and SMAPE on linear
 //! HDR and by PSNR and FLIP on what a viewer sees, plus a per-pixel error heatmap. The measures
-//! and their parameters are documented in [`metrics`]. [`bench`] weighs the GPU frame's
-//! configurations by speed against error.
+//! and their parameters are documented in [`metrics`]. [`bench`](mod@bench) weighs the GPU
+//! frame's configurations by speed against error.
 //!
 //! ```
 //! use chiaro_eval::{CompareSettings, HdrImage, compare};

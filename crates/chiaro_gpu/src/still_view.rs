@@ -96,7 +96,7 @@ pub fn history_weights(settings: &DenoiseSettings, stillness: Stillness) -> Hist
 
 /// How much of the resolve's neighbourhood clamp the history gets after `k` frames of running
 /// mean: all of it in the moving average (k = 0), then (K / (K + k))^2 with K =
-/// [`CLAMP_FADE_FRAMES`].
+/// `CLAMP_FADE_FRAMES`.
 pub fn resolve_clamp(k: u32) -> f32 {
     (CLAMP_FADE_FRAMES / (CLAMP_FADE_FRAMES + k as f32)).powi(2)
 }

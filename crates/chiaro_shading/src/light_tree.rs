@@ -221,7 +221,7 @@ pub fn importance(b: &LightBounds, p: Vec3, n: Vec3) -> f32 {
     b.power * cos_emit * cos_receive / distance2
 }
 
-/// Levels of the tree cut by [`split`]'s heuristic; below them, at the median. A heuristic cut
+/// Levels of the tree cut by `split`'s heuristic; below them, at the median. A heuristic cut
 /// may peel one light off a node at every level, so this bounds the depth: at most
 /// `SAH_LEVELS + ceil(log2 n)`, 56 for 2^32 lights, within the GPU walk's bound of 64
 /// (`shaders/lib/light_tree.wgsl`).
@@ -242,8 +242,8 @@ fn split_cost(count: usize, size: Vec3) -> f64 {
 /// emitter, and so was weighed by its power alone, while its sibling was weighed by distance,
 /// which starved the emitter of picks beside it. Not weighted by power: that grouped
 /// many-lights' bright lights apart from the dim ones near them, whatever the distance, and the
-/// CPU reference's noise there grew 27 times (BENCHMARKS.md). Ties (lights at one point) go to
-/// the cut nearest the middle. Without `sah`, the median cut.
+/// CPU reference's noise there grew 27 times (docs/experiments/, the light tree cuts). Ties
+/// (lights at one point) go to the cut nearest the middle. Without `sah`, the median cut.
 fn split(lights: &[LightBounds], items: &mut [u32], sah: bool) -> usize {
     let centroid = |i: u32| lights[i as usize].centroid();
     let (lo, hi) = items

@@ -31,7 +31,8 @@ macro_rules! put_texels {
 
 /// Brings [`GpuScene`] in step with the world: each buffer whose source changed is rebuilt on
 /// the CPU and only its differing ranges are written; [`GpuScene::last`] counts what this run
-/// wrote. Runs after `chiaro_bvh::update_scene_bvh` (see [`add_gpu_scene_systems`]).
+/// wrote. Runs after `chiaro_bvh::update_scene_bvh` (see
+/// [`add_gpu_scene_systems`](super::add_gpu_scene_systems)).
 #[allow(clippy::too_many_arguments, clippy::type_complexity)]
 pub fn upload_gpu_scene(
     scene: Option<ResMut<GpuScene>>,
