@@ -13,7 +13,7 @@
 // 5 x 5 ones: the pass took half the time, and the error after 64 frames was lower on every
 // scene (relMSE 8% to 31% lower, FLIP too: with the temporal history the wider kernel blurs
 // more than it removes noise); after one frame it was within 10% either way
-// (BENCHMARKS.md, "Denoiser: the a-trous kernel").
+// (docs/experiments/atrous-kernel.md).
 //
 // Pixels that are not a covered, shading surface pass through. On smooth metals the taps around
 // the centre weigh less, down to none on a mirror: their lighting is the reflected image, which

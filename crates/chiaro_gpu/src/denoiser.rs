@@ -280,8 +280,7 @@ impl Denoiser {
     /// The next frame's colour history is this frame's temporal average, not SVGF's first
     /// a-trous iteration: that one is filtered again every frame it is kept, so a history that
     /// lasts (a still view's running mean, or the moving average's twenty frames while the
-    /// camera moves) is blurred again and again. BENCHMARKS.md, "Denoiser: the temporal
-    /// average as the colour history".
+    /// camera moves) is blurred again and again. docs/experiments/temporal-average-as-history.md.
     pub fn record_atrous(
         &mut self,
         encoder: &mut wgpu::CommandEncoder,

@@ -19,7 +19,7 @@ pub const REFERENCE_BOUNCES: u32 = 63;
 /// The realtime mode's default bounce cap. Against the cap of 2, on the Cornell box (a closed
 /// room) it more than halves the denoised frame's relMSE, for 5% more indirect-pass time; on
 /// open scenes relMSE moves by -2 to +6% and FLIP is lower on all five scenes measured
-/// (BENCHMARKS.md, "Indirect pass: time and the bias of the bounce cap").
+/// (docs/experiments/bounce-cap.md).
 pub const DEFAULT_BOUNCES: u32 = 3;
 
 /// What each frame computes (one pipeline; the modes differ in which passes run).
@@ -82,7 +82,7 @@ pub struct DenoiseSettings {
     /// A-trous iterations (steps 1, 2, 4, ...). More: a wider, smoother filter and more blur
     /// of small detail; fewer: more noise left. The default is 4: with the 3 x 3 kernel a
     /// fifth iteration (step 16) added 18% to the pass's time and lowered no bench scene's
-    /// error by more than 1% (BENCHMARKS.md, "Denoiser: the a-trous kernel").
+    /// error by more than 1% (docs/experiments/atrous-kernel.md).
     pub atrous_iterations: u32,
     /// Depth edge-stopping (sigma_z of SVGF, in units of the depth gradient). Higher: blurs
     /// across depth edges; lower: stops at smaller depth changes, keeping more noise on
@@ -94,7 +94,8 @@ pub struct DenoiseSettings {
     /// Luminance edge-stopping in standard deviations (sigma_l of SVGF). Higher: smooths more
     /// noise and more lighting detail; lower: keeps detail and noise. The default is 2, not
     /// SVGF's 4: with 4 the filter smears the thin sun shadows of environment-lit scenes (the
-    /// bench's glTF scenes err up to 6 times more after 64 frames), see BENCHMARKS.md.
+    /// bench's glTF scenes err up to 6 times more after 64 frames), see
+    /// docs/experiments/atrous-luminance-sigma.md.
     pub sigma_luminance: f32,
     /// Whether a still view converges: while the camera, the scene and the settings stay as
     /// they are, the temporal averages (the denoiser's and the resolve's) become running means

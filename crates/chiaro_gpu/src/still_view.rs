@@ -32,8 +32,8 @@ use crate::settings::DenoiseSettings;
 const STALE_WEIGHT: f64 = 0.01;
 
 /// K of [`resolve_clamp`]: the running-mean frames after which the clamp weighs a quarter.
-/// Measured on the bench's nine scenes (BENCHMARKS.md, "Realtime: the resolve's clamp on a still
-/// view"): of the fades tried, the lowest error after 64 frames, and within 4% of the clamp
+/// Measured on the bench's nine scenes (docs/experiments/resolve-clamp-on-a-still-view.md): of
+/// the fades tried, the lowest error after 64 frames, and within 4% of the clamp
 /// kept whole after 4.
 const CLAMP_FADE_FRAMES: f32 = 4.0;
 

@@ -227,9 +227,10 @@ fn one_realtime_frame_beats_one_naive_frame() {
 /// kept whole on the still view: 1.45e-2, 7.42e-3, 4.91e-3, 3.94e-3). With the moving average
 /// alone the error stopped at its floor from 16 frames on (1.60e-2, 9.91e-3, 6.70e-3, 6.64e-3;
 /// away from depth edges 9.8e-3, 7.5e-3, 5.3e-3, 5.3e-3); the cap alone leaves about 1e-3
-/// against the uncapped reference (BENCHMARKS.md). With the cap of 2 (4e-3 of bias) and the
-/// moving average: 1.77e-2, 1.22e-2, 9.75e-3, 9.71e-3. (Before the resolve, which averages the
-/// emission and the silhouettes over frames, cap 2: 1.77e-2, 1.61e-2, 1.42e-2, 1.12e-2.)
+/// against the uncapped reference (docs/experiments/bounce-cap.md). With the cap of 2 (4e-3 of
+/// bias) and the moving average: 1.77e-2, 1.22e-2, 9.75e-3, 9.71e-3. (Before the resolve, which
+/// averages the emission and the silhouettes over frames, cap 2: 1.77e-2, 1.61e-2, 1.42e-2,
+/// 1.12e-2.)
 /// Asserted: 4 below 1, 16 below 4, 64 below 16 and below 0.6 x one frame; away from depth
 /// edges, 64 frames below 0.85 x one frame.
 #[test]

@@ -45,8 +45,8 @@ pub const SAMPLER_NEAREST: u32 = 16;
 pub const ALL_PUNCTUAL_LIGHTS_MAX: u32 = 8;
 
 /// With at most this many emissive triangles the area lights get no light tree and are picked
-/// by power alone: on so few, picking by importance measured no better (BENCHMARKS.md,
-/// "Light trees only where there are many lights"), and a pipeline without the trees' code
+/// by power alone: on so few, picking by importance measured no better
+/// (docs/experiments/light-trees-only-for-many-lights.md), and a pipeline without the trees' code
 /// runs faster.
 pub const AREA_LIGHTS_BY_POWER_MAX: usize = 8;
 

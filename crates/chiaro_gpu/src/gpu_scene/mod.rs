@@ -47,7 +47,7 @@
 //! input assembler fetches. On lavapipe a storage load in the vertex stage is a loop over the
 //! SIMD lanes, one word at a time, even where every vertex of the draw reads the same instance;
 //! the fixed-function fetch cut the G-buffer of a 1M-triangle scene at 256x256 from 573 to 128 ms
-//! (BENCHMARKS.md, "Storage loads on lavapipe").
+//! (docs/experiments/lavapipe-storage-loads.md).
 
 pub mod back_faces;
 mod gather;

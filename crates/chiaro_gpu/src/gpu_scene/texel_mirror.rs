@@ -4,10 +4,10 @@
 //! The BVH lives in such textures because the shaders' per-lane loads are the traversal's
 //! bottleneck on lavapipe (Mesa 22.3): a storage-buffer load at a per-lane address is a loop over
 //! the lanes, one 32-bit word at a time, where a texel fetch gathers a lane's 16 bytes at once.
-//! Measured with the `traversal_bench` example (BENCHMARKS.md, "WGSL BVH traversal"). The light
+//! Measured with the `traversal_bench` example (docs/experiments/gpu-bvh-traversal.md). The light
 //! tables and the light trees, which every light sample walks, and the environment's texels and
 //! importance table, which every environment sample searches, live in them for the same reason
-//! (BENCHMARKS.md, "Storage loads on lavapipe").
+//! (docs/experiments/lavapipe-storage-loads.md).
 //!
 //! Layout: record `i` of `T` is texels `i * T::TEXELS .. (i + 1) * T::TEXELS` in row-major order,
 //! [`TEXEL_ROW_WIDTH`] texels to a row (`shaders/lib/bvh_bindings.wgsl` reads them so).
