@@ -216,7 +216,7 @@ fn path_step(path: ptr<function, Path>, rng: ptr<function, Pcg32>, first_path: b
 // (or subgroup) take as many steps as the longest of their sums of path lengths, not the sum
 // of their longest paths. Each invocation draws its numbers in the same order as path after
 // path, so the estimate is the same.
-fn trace_paths(x0: Shading, rng: ptr<function, Pcg32>, first: FirstBounce) -> vec3<f32> {
+fn trace_paths(x0: Shading, rng: ptr<function, Pcg32>, first: FirstBounce, spp: u32) -> vec3<f32> {
     var sum = vec3<f32>(0.0);
     var path = path_from(x0);
     var done = 0u;
@@ -224,7 +224,7 @@ fn trace_paths(x0: Shading, rng: ptr<function, Pcg32>, first: FirstBounce) -> ve
         if !path_step(&path, rng, done == 0u, first) {
             sum += clamp_luminance(path.total, params.firefly_clamp);
             done += 1u;
-            if done == params.spp {
+            if done == spp {
                 break;
             }
             path = path_from(x0);
@@ -257,7 +257,14 @@ fn main(@builtin(workgroup_id) workgroup: vec3<u32>, @builtin(local_invocation_i
             var rng = pcg32_new(seed ^ INDIRECT_SEED, vec2<u32>(index, params.frame));
             let first = FirstBounce(first_bounce_numbers(seed, index, params.frame),
                 textureLoad(first_bounce, pixel, 0));
-            radiance = trace_paths(x0, &rng, first) / f32(params.spp);
+            // `spp` is loaded once, before the loop over paths, and passed in: a load inside a
+            // loop that invocations leave at different iterations must not be read again
+            // after it. llvmpipe's GL driver (Mesa 22.3) reused the loop's load of params.spp
+            // after the loop, where it read 0 for the invocations that had left earlier:
+            // radiance 0 / 0, a NaN the composite's guard turned black (docs/architecture.md,
+            // "Portability").
+            let spp = params.spp;
+            radiance = trace_paths(x0, &rng, first, spp) / f32(spp);
         }
     }
     textureStore(indirect_out, pixel, vec4<f32>(radiance, 1.0));
