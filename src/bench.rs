@@ -23,16 +23,17 @@ pub struct BenchArgs {
     #[arg(long)]
     env: Option<PathBuf>,
     /// Image size, WxH.
-    #[arg(long, default_value = "256x256", value_parser = crate::parse_size)]
+    #[arg(long, default_value = "256x256", value_parser = crate::args::size)]
     size: (u32, u32),
     /// Where results.json, results.md and the plots go.
     #[arg(long, default_value = "bench")]
     out: PathBuf,
     /// Frame counts after which the error is measured (the last is how many are rendered).
-    #[arg(long, value_delimiter = ',', default_value = "1,4,16,64")]
+    #[arg(long, value_delimiter = ',', default_value = "1,4,16,64",
+          value_parser = clap::value_parser!(u32).range(1..=crate::args::MAX_FRAMES as i64))]
     checkpoints: Vec<u32>,
     /// Samples per pixel of the converged references (cached in OUT/cache).
-    #[arg(long, default_value_t = 1024)]
+    #[arg(long, default_value_t = 1024, value_parser = clap::value_parser!(u32).range(2..=1 << 20))]
     reference_spp: u32,
     /// What renders the converged references: cpu, the CPU reference path tracer (code apart
     /// from the GPU frame under test); or gpu, the GPU reference mode in two halves of other
@@ -40,7 +41,7 @@ pub struct BenchArgs {
     #[arg(long, value_enum, default_value_t = ReferenceArg::Cpu)]
     reference: ReferenceArg,
     /// Frames rendered before timing starts.
-    #[arg(long, default_value_t = 2)]
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u32).range(0..=1000))]
     warmup: u32,
     /// These configurations, by name, instead of the default set (direct, realtime,
     /// realtime-no-denoise, realtime-spp2, realtime-spp4, realtime-bounces1,

@@ -1,5 +1,6 @@
 //! The `chiaro` command line.
 
+mod args;
 mod bench;
 mod compare;
 
@@ -9,13 +10,12 @@ use std::time::Instant;
 use anyhow::{Context, Result, bail};
 use bevy_ecs::world::World;
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use glam::Vec3;
 
 use chiaro::gpu::{FrameSettings, RenderMode};
 use chiaro::reference::{
     LightSampling, PathSettings, RenderSettings, render_world, write_exr, write_png,
 };
-use chiaro::scene::{Environment, SceneInfo, load_scene};
+use chiaro::scene::{Environment, LoadOptions, SceneInfo, load_scene_with};
 use chiaro::shading::tonemap::Tonemapper;
 
 #[derive(Parser)]
@@ -37,11 +37,38 @@ struct SceneArgs {
     scene: String,
     /// Replaces the scene's environment: an equirectangular .hdr or .exr image, or a constant
     /// linear colour R,G,B.
-    #[arg(long)]
-    env: Option<String>,
-    /// Multiplies the environment's radiance.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, value_parser = args::env)]
+    env: Option<args::EnvArg>,
+    /// Multiplies the environment's radiance (0..=1e9).
+    #[arg(long, default_value_t = 1.0, value_parser = args::env_strength)]
     env_strength: f32,
+    /// Let a glTF read buffers and images outside its own folder (absolute paths, file: URIs,
+    /// `..` leaving the folder), which are refused by default.
+    #[arg(long)]
+    allow_outside_files: bool,
+}
+
+/// The memory a render may take.
+#[derive(Args)]
+struct MemoryArgs {
+    /// Most memory a render may take, e.g. 512M or 8G (default: what the system has available).
+    /// A scene and image size whose estimate is larger are refused before anything is built.
+    #[arg(long, value_parser = chiaro::scene::memory::parse_bytes)]
+    memory_limit: Option<u64>,
+}
+
+impl MemoryArgs {
+    /// Refuses the render of `scene` (loaded in `world`) at `size` when its estimate is over
+    /// the limit.
+    fn check(&self, scene: &str, world: &mut World, size: (u32, u32)) -> Result<()> {
+        let limit = self
+            .memory_limit
+            .or_else(chiaro::scene::memory::available_memory)
+            .unwrap_or(u64::MAX);
+        chiaro::scene::MemoryEstimate::of_world(world, size.0, size.1)
+            .check(limit)
+            .map_err(|e| anyhow::anyhow!("{scene}: {e}; --memory-limit sets the limit"))
+    }
 }
 
 #[derive(Subcommand)]
@@ -60,16 +87,23 @@ enum Command {
         #[arg(default_value = "builtin:cornell")]
         scene: String,
         /// Replaces the scene's environment: an .hdr or .exr image, or a colour R,G,B.
-        #[arg(long)]
-        env: Option<String>,
-        /// Multiplies the environment's radiance.
-        #[arg(long, default_value_t = 1.0)]
+        #[arg(long, value_parser = args::env)]
+        env: Option<args::EnvArg>,
+        /// Multiplies the environment's radiance (0..=1e9).
+        #[arg(long, default_value_t = 1.0, value_parser = args::env_strength)]
         env_strength: f32,
+        /// Let a glTF read files outside its own folder (refused by default).
+        #[arg(long)]
+        allow_outside_files: bool,
+        #[command(flatten)]
+        memory: MemoryArgs,
         /// Image size, WxH.
-        #[arg(long, default_value = "512x512", value_parser = parse_size)]
+        #[arg(long, default_value = "512x512", value_parser = args::size)]
         size: (u32, u32),
-        /// Frames to render (the realtime image is the last; the other modes average them).
-        #[arg(long, default_value_t = 16)]
+        /// Frames to render, 1..=1000000 (the realtime image is the last; the other modes
+        /// average them).
+        #[arg(long, default_value_t = 16,
+              value_parser = clap::value_parser!(u32).range(1..=args::MAX_FRAMES as i64))]
         frames: u32,
         /// Output file, .png or .exr.
         #[arg(long, default_value = "chiaro.png")]
@@ -85,11 +119,11 @@ enum Command {
     Reference {
         #[command(flatten)]
         scene: SceneArgs,
-        /// Samples per pixel (at least 2).
-        #[arg(long, default_value_t = 256)]
+        /// Samples per pixel (2..=1048576).
+        #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(2..=1 << 20))]
         spp: u32,
         /// Image size, WxH.
-        #[arg(long, default_value = "256x256", value_parser = parse_size)]
+        #[arg(long, default_value = "256x256", value_parser = args::size)]
         size: (u32, u32),
         /// Output file, .exr or .png (the other format is written beside it).
         #[arg(long, default_value = "reference.exr")]
@@ -100,17 +134,19 @@ enum Command {
         /// Seed of the random streams.
         #[arg(long, default_value_t = 0)]
         seed: u64,
-        /// Worker threads (default: one per core).
-        #[arg(long)]
-        threads: Option<usize>,
+        /// Worker threads, 1..=1024 (default: one per core).
+        #[arg(long, value_parser = clap::value_parser!(u64).range(1..=args::MAX_THREADS as u64))]
+        threads: Option<u64>,
         /// Most bounces per path: 0 shows emitters only, 1 is direct light, and the light the
         /// last bounce's ray reaches is counted (Russian roulette ends most paths well before).
-        #[arg(long, default_value_t = 64)]
+        #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u32).range(0..=1024))]
         max_depth: u32,
         /// How a light is picked for next-event estimation: tree (by importance to the shading
         /// point, through a light tree) or power (by power alone).
         #[arg(long, default_value = "tree")]
         light_sampling: LightSampling,
+        #[command(flatten)]
+        memory: MemoryArgs,
     },
     /// Measure an image against a reference: relMSE (linear HDR, epsilon 0.01) and SMAPE, then
     /// PSNR (dB) and mean LDR-FLIP of the tonemapped 8-bit images; one `name value` per line.
@@ -127,13 +163,18 @@ enum Command {
         #[arg(default_value = "builtin:cornell")]
         scene: String,
         /// Replaces the scene's environment: an .hdr or .exr image, or a colour R,G,B.
-        #[arg(long)]
-        env: Option<String>,
-        /// Multiplies the environment's radiance.
-        #[arg(long, default_value_t = 1.0)]
+        #[arg(long, value_parser = args::env)]
+        env: Option<args::EnvArg>,
+        /// Multiplies the environment's radiance (0..=1e9).
+        #[arg(long, default_value_t = 1.0, value_parser = args::env_strength)]
         env_strength: f32,
+        /// Let a glTF read files outside its own folder (refused by default).
+        #[arg(long)]
+        allow_outside_files: bool,
+        #[command(flatten)]
+        memory: MemoryArgs,
         /// Window size, WxH.
-        #[arg(long, default_value = "1280x720", value_parser = parse_size)]
+        #[arg(long, default_value = "1280x720", value_parser = args::size)]
         size: (u32, u32),
         /// Replays the input in this file (frames N, key W N, look DX DY, resize W H,
         /// drop PATH, screenshot PATH, panel on|off; one a line), then exits.
@@ -201,7 +242,8 @@ struct FrameArgs {
     /// Most luminance one realtime light sample (an indirect path, the direct light's BRDF
     /// sample or randomly picked light) may bring, in units of display white at the exposure, a
     /// brighter one scaled down to it (fewer fireflies, some energy lost); 0 is off.
-    #[arg(long, default_value_t = chiaro::gpu::settings::DEFAULT_FIREFLY_CLAMP)]
+    #[arg(long, default_value_t = chiaro::gpu::settings::DEFAULT_FIREFLY_CLAMP,
+          value_parser = args::non_negative)]
     firefly_clamp: f32,
 }
 
@@ -220,16 +262,6 @@ impl FrameArgs {
     }
 }
 
-fn parse_size(text: &str) -> Result<(u32, u32), String> {
-    let (w, h) = text
-        .split_once('x')
-        .ok_or_else(|| format!("'{text}' is not WxH"))?;
-    match (w.parse::<u32>(), h.parse::<u32>()) {
-        (Ok(w), Ok(h)) if w > 0 && h > 0 && w <= 16384 && h <= 16384 => Ok((w, h)),
-        _ => Err(format!("'{text}' is not WxH with sides in 1..=16384")),
-    }
-}
-
 /// A reader that closes its end early (`chiaro compare A B | head -1`) ends the program
 /// quietly, as it does other command-line tools, rather than in a panic of the next print.
 #[cfg(unix)]
@@ -241,7 +273,25 @@ fn end_quietly_on_a_closed_pipe() {
     }
 }
 
+/// Mesa's Vulkan device-select layer (an implicit layer, loaded into every Vulkan program)
+/// looks for a Wayland compositor while wgpu lists the adapters, and libwayland prints
+/// `error: XDG_RUNTIME_DIR is invalid or not set in the environment.` where there can be
+/// none. chiaro ranks the adapters itself, so where no Wayland display can exist (no
+/// `WAYLAND_DISPLAY` and no runtime directory) the layer is turned off through its own switch,
+/// `NODEVICE_SELECT`. A user's own setting of it is kept, and drivers' messages still print.
+fn skip_the_wayland_probe_without_wayland() {
+    let set = |name| std::env::var_os(name).is_some_and(|v| !v.is_empty());
+    let runtime_dir =
+        std::env::var_os("XDG_RUNTIME_DIR").is_some_and(|dir| Path::new(&dir).is_dir());
+    if !runtime_dir && !set("WAYLAND_DISPLAY") && std::env::var_os("NODEVICE_SELECT").is_none() {
+        // SAFETY: called first in main, before any other thread runs (no concurrent reads of
+        // the environment).
+        unsafe { std::env::set_var("NODEVICE_SELECT", "1") };
+    }
+}
+
 fn main() -> Result<()> {
+    skip_the_wayland_probe_without_wayland();
     #[cfg(unix)]
     end_quietly_on_a_closed_pipe();
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
@@ -255,6 +305,8 @@ fn main() -> Result<()> {
             scene,
             env,
             env_strength,
+            allow_outside_files,
+            memory,
             size,
             frames,
             out,
@@ -265,8 +317,9 @@ fn main() -> Result<()> {
                 scene,
                 env,
                 env_strength,
+                allow_outside_files,
             };
-            render(&scene, size, frames, &out, frame.settings(), seed)
+            render(&scene, &memory, size, frames, &out, frame.settings(), seed)
         }
         Command::Compare(args) => compare::run(&args),
         Command::Bench(args) => bench::run(&args),
@@ -274,6 +327,8 @@ fn main() -> Result<()> {
             scene,
             env,
             env_strength,
+            allow_outside_files,
+            memory,
             size,
             script,
             screenshot,
@@ -284,9 +339,11 @@ fn main() -> Result<()> {
                 scene,
                 env,
                 env_strength,
+                allow_outside_files,
             };
             view(
                 &scene,
+                &memory,
                 size,
                 script.as_deref(),
                 screenshot,
@@ -304,6 +361,7 @@ fn main() -> Result<()> {
             threads,
             max_depth,
             light_sampling,
+            memory,
         } => {
             let path = PathSettings {
                 max_depth,
@@ -316,10 +374,10 @@ fn main() -> Result<()> {
                 height: size.1,
                 spp,
                 seed,
-                threads,
+                threads: threads.map(|t| t as usize),
                 path,
             };
-            reference(&scene, &settings, &out)
+            reference(&scene, &memory, &settings, &out)
         }
     }
 }
@@ -327,16 +385,18 @@ fn main() -> Result<()> {
 /// Loads the scene and applies the environment options.
 fn load(args: &SceneArgs) -> Result<World> {
     let mut world = World::new();
-    load_scene(&mut world, &args.scene)?;
+    let options = LoadOptions {
+        allow_outside_files: args.allow_outside_files,
+    };
+    load_scene_with(&mut world, &args.scene, &options)?;
     if let Some(env) = &args.env {
-        let environment = match parse_color(env) {
-            Some(color) => {
-                let mut environment = Environment::constant(color);
+        let environment = match env {
+            args::EnvArg::Color(color) => {
+                let mut environment = Environment::constant(*color);
                 environment.strength = args.env_strength;
                 environment
             }
-            None => {
-                let path = Path::new(env);
+            args::EnvArg::Image(path) => {
                 let (environment, repairs) = Environment::from_file(path, args.env_strength)?;
                 for r in repairs {
                     log::warn!("{}: {r}", path.display());
@@ -349,21 +409,6 @@ fn load(args: &SceneArgs) -> Result<World> {
     Ok(world)
 }
 
-/// `R,G,B` as a colour, if `text` is one.
-fn parse_color(text: &str) -> Option<Vec3> {
-    let parts: Vec<f32> = text
-        .split(',')
-        .map(|p| p.trim().parse::<f32>())
-        .collect::<Result<_, _>>()
-        .ok()?;
-    match parts[..] {
-        [r, g, b] if [r, g, b].iter().all(|c| c.is_finite() && *c >= 0.0) => {
-            Some(Vec3::new(r, g, b))
-        }
-        _ => None,
-    }
-}
-
 fn info(args: &SceneArgs) -> Result<()> {
     let start = Instant::now();
     let mut world = load(args)?;
@@ -371,12 +416,17 @@ fn info(args: &SceneArgs) -> Result<()> {
     let info = SceneInfo::gather(&mut world);
     println!("scene: {}", args.scene);
     print!("{info}");
+    println!(
+        "memory to render at 512x512: {}",
+        chiaro::scene::MemoryEstimate::of_world(&mut world, 512, 512)
+    );
     println!("load time: {:.1} ms", elapsed.as_secs_f64() * 1e3);
     Ok(())
 }
 
 fn render(
     args: &SceneArgs,
+    memory: &MemoryArgs,
     size: (u32, u32),
     frames: u32,
     out: &Path,
@@ -390,13 +440,14 @@ fn render(
     };
     frame.validate()?;
     let mut world = load(args)?;
+    memory.check(&args.scene, &mut world, size)?;
     let context = chiaro::gpu::GpuContext::new_headless()?;
     let adapter = context.describe();
     let mut renderer = chiaro::gpu::Renderer::new(context);
     let settings = chiaro::gpu::RenderSettings {
         width: size.0,
         height: size.1,
-        frames: frames.max(1),
+        frames,
         seed,
         frame,
     };
@@ -408,10 +459,13 @@ fn render(
     if exr {
         write_exr(out, output.width, output.height, &output.hdr)?;
     } else {
-        image::RgbaImage::from_raw(output.width, output.height, output.ldr)
-            .context("image size")?
-            .save_with_format(out, image::ImageFormat::Png)
-            .with_context(|| format!("cannot write {}", out.display()))?;
+        chiaro::reference::write_png_pixels(
+            out,
+            output.width,
+            output.height,
+            &output.ldr,
+            image::ExtendedColorType::Rgba8,
+        )?;
     }
     println!("wrote {}", out.display());
     println!(
@@ -441,6 +495,7 @@ fn render(
 
 fn view(
     args: &SceneArgs,
+    memory: &MemoryArgs,
     size: (u32, u32),
     script: Option<&Path>,
     screenshot: Option<PathBuf>,
@@ -455,6 +510,7 @@ fn view(
             .map(|_| vec![chiaro_viewer::script::Command::Frames(16)]),
     };
     let mut world = load(args)?;
+    memory.check(&args.scene, &mut world, size)?;
     world.insert_resource(frame);
     let options = chiaro_viewer::ViewerOptions {
         title: format!("chiaro: {}", args.scene),
@@ -466,13 +522,19 @@ fn view(
     Ok(chiaro_viewer::run(world, options)?)
 }
 
-fn reference(args: &SceneArgs, settings: &RenderSettings, out: &Path) -> Result<()> {
+fn reference(
+    args: &SceneArgs,
+    memory: &MemoryArgs,
+    settings: &RenderSettings,
+    out: &Path,
+) -> Result<()> {
     let (exr, png) = match out.extension().and_then(|e| e.to_str()) {
         Some("exr") => (out.to_path_buf(), out.with_extension("png")),
         Some("png") => (out.with_extension("exr"), out.to_path_buf()),
         _ => bail!("{}: the output must end in .exr or .png", out.display()),
     };
     let mut world = load(args)?;
+    memory.check(&args.scene, &mut world, (settings.width, settings.height))?;
     let output = render_world(&mut world, settings, true).context("cannot render")?;
     write_exr(&exr, output.width, output.height, &output.image)?;
     write_png(

@@ -15,19 +15,20 @@ pub fn write_heatmap(path: &Path, comparison: &Comparison) -> Result<(), EvalErr
         &comparison.flip_error,
     );
     let rgb = map.apply_color_lut(&lut).to_vec();
-    let image =
-        image::RgbImage::from_raw(comparison.width, comparison.height, rgb).ok_or_else(|| {
-            EvalError::Write {
-                path: path.display().to_string(),
-                message: "the error map does not match the image size".into(),
-            }
-        })?;
-    image
-        .save_with_format(path, image::ImageFormat::Png)
-        .map_err(|e| EvalError::Write {
-            path: path.display().to_string(),
-            message: e.to_string(),
-        })
+    chiaro_reference::write_png_pixels(
+        path,
+        comparison.width,
+        comparison.height,
+        &rgb,
+        image::ExtendedColorType::Rgb8,
+    )
+    .map_err(|e| EvalError::Write {
+        path: path.display().to_string(),
+        message: match e {
+            chiaro_reference::ReferenceError::Write { message, .. } => message,
+            other => other.to_string(),
+        },
+    })
 }
 
 #[cfg(test)]

@@ -221,7 +221,9 @@ impl Renderer {
         frames: u32,
     ) -> Result<Vec<PassTimes>, RenderError> {
         self.prepare(world, settings, true)?;
-        let mut times = Vec::with_capacity(frames as usize);
+        // Grown as frames finish, not reserved up front: a count of frames costs no memory
+        // before they are drawn.
+        let mut times = Vec::new();
         for _ in 0..frames {
             self.schedule.run(world);
             times.push(self.draw(world, settings)?);

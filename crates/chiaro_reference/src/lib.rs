@@ -34,8 +34,8 @@ pub use camera::CameraRays;
 pub use error::ReferenceError;
 pub use integrator::PathSettings;
 pub use light_table::{LightEntry, LightSampling, LightTable};
-pub use output::{read_exr, write_exr, write_png};
-pub use render::{RenderOutput, RenderSettings, TILE, render};
+pub use output::{read_exr, write_exr, write_png, write_png_pixels};
+pub use render::{MAX_THREADS, RenderOutput, RenderSettings, TILE, render};
 pub use scene::{RenderScene, prepare};
 
 use bevy_ecs::world::World;

@@ -44,11 +44,31 @@ pub fn write_png(
         .flat_map(|p| tonemapper.apply(*p, exposure).to_array())
         .map(|c| (linear_to_srgb(c) * 255.0 + 0.5) as u8)
         .collect();
-    let image = image::RgbImage::from_raw(width, height, data)
-        .ok_or_else(|| write_error(path, "pixel count does not match the size"))?;
-    image
-        .save_with_format(path, image::ImageFormat::Png)
-        .map_err(|e| write_error(path, e))
+    write_png_pixels(path, width, height, &data, image::ExtendedColorType::Rgb8)
+}
+
+/// Writes 8-bit pixels (`color`: RGB8 or RGBA8, rows top to bottom) as a PNG. The file is
+/// encoded in memory and written with one checked write, so a full disk or a failed write is
+/// an error: the image crate's own `save` buffers the file and drops the error of its last
+/// flush.
+pub fn write_png_pixels(
+    path: &Path,
+    width: u32,
+    height: u32,
+    pixels: &[u8],
+    color: image::ExtendedColorType,
+) -> Result<(), ReferenceError> {
+    let mut encoded = std::io::Cursor::new(Vec::new());
+    image::write_buffer_with_format(
+        &mut encoded,
+        pixels,
+        width,
+        height,
+        color,
+        image::ImageFormat::Png,
+    )
+    .map_err(|e| write_error(path, e))?;
+    std::fs::write(path, encoded.into_inner()).map_err(|e| write_error(path, e))
 }
 
 /// Reads an EXR back as linear RGB (for comparisons and tests).

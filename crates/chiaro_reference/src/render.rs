@@ -16,6 +16,10 @@ use crate::scene::RenderScene;
 /// Side of the square tiles the image is split into.
 pub const TILE: u32 = 16;
 
+/// Most worker threads a render starts: more only cost memory and scheduling, and a count in
+/// the hundreds of thousands would take minutes to start.
+pub const MAX_THREADS: usize = 1024;
+
 /// What to render.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RenderSettings {
@@ -27,7 +31,7 @@ pub struct RenderSettings {
     pub spp: u32,
     /// Seed of every pixel's random stream.
     pub seed: u64,
-    /// Worker threads (`None`: rayon's default, one per core).
+    /// Worker threads, `1..=MAX_THREADS` (`None`: rayon's default, one per core).
     pub threads: Option<usize>,
     /// Path tracing options.
     pub path: PathSettings,
@@ -106,6 +110,13 @@ pub fn render(
         return Err(ReferenceError::Settings(format!(
             "{}x{} at {} spp: need a non-empty image and at least 2 samples (two halves)",
             settings.width, settings.height, settings.spp
+        )));
+    }
+    if let Some(threads) = settings.threads
+        && !(1..=MAX_THREADS).contains(&threads)
+    {
+        return Err(ReferenceError::Settings(format!(
+            "{threads} worker threads: need 1..={MAX_THREADS}"
         )));
     }
     let tiles: Vec<(u32, u32)> = (0..settings.height.div_ceil(TILE))

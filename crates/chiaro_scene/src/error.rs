@@ -45,6 +45,9 @@ pub enum Fault {
     /// JSON, GLB container or glTF schema errors, as the gltf crate reports them.
     #[error("not valid glTF: {0}")]
     Gltf(String),
+    /// A URI the file-access rule refuses, or one that cannot be resolved.
+    #[error("{0}")]
+    Uri(String),
     /// A buffer's data is shorter than its declared byteLength.
     #[error("declares {declared} bytes but its data holds {actual}")]
     BufferTooShort {

@@ -36,6 +36,7 @@ mod gltf;
 pub mod info;
 pub mod load;
 pub mod material;
+pub mod memory;
 pub mod mesh;
 pub mod mesh_repair;
 pub mod scene_builder;
@@ -52,11 +53,12 @@ pub use error::{Fault, ImportReport, Repair, SceneError};
 pub use features::{EnvironmentFeature, SceneFeatureStats, SceneFeatures, update_scene_features};
 pub use gltf::{
     MAX_FILE_BYTES, MAX_TEXTURE_SIDE, MAX_ZERO_FILLED_ELEMENTS, MIN_SCALE, SUPPORTED_EXTENSIONS,
-    load_gltf,
+    load_gltf, load_gltf_with,
 };
 pub use info::SceneInfo;
-pub use load::{load_scene, scene_builder_for};
+pub use load::{LoadOptions, load_scene, load_scene_with, scene_builder_for, scene_builder_with};
 pub use material::{AlphaMode, Material, MaterialId, Materials, TextureRef};
+pub use memory::{MemoryEstimate, OverBudget};
 pub use mesh::{Mesh, MeshId, Meshes};
 pub use mesh_repair::{MeshData, MeshFault};
 pub use scene_builder::{AutoCamera, Node, SceneBuilder, SourceNode, SpawnedScene};

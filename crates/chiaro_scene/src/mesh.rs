@@ -65,9 +65,10 @@ impl Mesh {
         self.indices.len() / 3
     }
 
-    /// Object-space bounds.
+    /// Object-space bounds of the triangles: vertices no triangle uses (such as those of
+    /// triangles import dropped for a non-finite position) do not count.
     pub fn bounds(&self) -> Aabb {
-        Aabb::from_points(self.positions.iter().copied())
+        Aabb::from_points(self.indices.iter().map(|&i| self.positions[i as usize]))
     }
 }
 

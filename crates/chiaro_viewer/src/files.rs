@@ -35,10 +35,14 @@ pub fn save_screenshot(
     match path.extension().and_then(|e| e.to_str()) {
         Some("exr") => chiaro_reference::write_exr(path, width, height, &image.hdr)
             .map_err(|e| e.to_string())?,
-        Some("png") => image::RgbaImage::from_raw(width, height, image.ldr)
-            .ok_or_else(|| format!("{}: image size mismatch", path.display()))?
-            .save_with_format(path, image::ImageFormat::Png)
-            .map_err(|e| format!("cannot write {}: {e}", path.display()))?,
+        Some("png") => chiaro_reference::write_png_pixels(
+            path,
+            width,
+            height,
+            &image.ldr,
+            image::ExtendedColorType::Rgba8,
+        )
+        .map_err(|e| e.to_string())?,
         _ => return Err(format!("{}: must end in .png or .exr", path.display())),
     }
     Ok((width, height))

@@ -58,9 +58,14 @@ pub use app::read_script;
 /// Why the viewer could not run or stopped.
 #[derive(Debug, Error)]
 pub enum ViewerError {
-    /// No event loop (no display: set `DISPLAY` to an X server).
+    /// No display to open a window on.
+    #[error(
+        "no display to open a window on: set DISPLAY to an X server (or run `chiaro render`, which needs none)"
+    )]
+    NoDisplay,
+    /// The display could not be opened, in winit's words without its source location.
     #[error("cannot open the display: {0}")]
-    EventLoop(#[from] winit::error::EventLoopError),
+    EventLoop(String),
     /// The window could not be made.
     #[error("cannot create the window: {0}")]
     Window(String),
@@ -118,14 +123,33 @@ impl Default for ViewerOptions {
 
 /// Opens a window on `world` and runs until it is closed (or the script ends).
 pub fn run(world: World, options: ViewerOptions) -> Result<(), ViewerError> {
-    let event_loop = EventLoop::new()?;
+    let has_display = ["DISPLAY", "WAYLAND_DISPLAY", "WAYLAND_SOCKET"]
+        .iter()
+        .any(|name| std::env::var_os(name).is_some_and(|v| !v.is_empty()));
+    if !has_display {
+        return Err(ViewerError::NoDisplay);
+    }
+    let event_loop = EventLoop::new().map_err(event_loop_error)?;
     event_loop.set_control_flow(ControlFlow::Poll);
     let mut app = app::App::new(world, options, event_loop.owned_display_handle());
-    event_loop.run_app(&mut app)?;
+    event_loop.run_app(&mut app).map_err(event_loop_error)?;
     match app.fatal.take() {
         Some(error) => Err(error),
         None => Ok(()),
     }
+}
+
+/// winit's error as a user reads it: its OS errors begin with the source file and line in
+/// winit that raised them, which mean nothing to a user and are dropped.
+fn event_loop_error(error: winit::error::EventLoopError) -> ViewerError {
+    let text = error.to_string();
+    let words = match text.strip_prefix("os error at ") {
+        Some(rest) => rest
+            .split_once(": ")
+            .map_or(rest.to_owned(), |(_, what)| what.to_owned()),
+        None => text,
+    };
+    ViewerError::EventLoop(words)
 }
 
 /// The viewer's own shader `name` (source `text`), its `#import`s resolved from chiaro's shader

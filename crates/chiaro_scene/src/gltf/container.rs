@@ -114,13 +114,85 @@ fn check_image_sources(root: &gltf::json::Root) -> Result<(), String> {
     Ok(())
 }
 
-/// Parses and validates a .gltf or .glb file's bytes: the document and the GLB binary chunk.
-pub(crate) fn parse(bytes: &[u8]) -> Result<(gltf::Document, Option<Vec<u8>>), String> {
-    if bytes.starts_with(GLB_MAGIC) {
-        check_glb(bytes)?;
+/// The JSON text of a .gltf or .glb file and the GLB's binary chunk, the container checked.
+fn split(bytes: &[u8]) -> Result<(&[u8], Option<Vec<u8>>), String> {
+    if !bytes.starts_with(GLB_MAGIC) {
+        return Ok((bytes, None));
     }
-    let unchecked = gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| e.to_string())?;
-    let mut root = unchecked.document.into_json();
+    check_glb(bytes)?;
+    // check_glb found chunk 0 whole inside the file, and chunk 1, if any, after it.
+    let json_end = 20 + word(bytes, 12) as usize;
+    let blob = (bytes.len() >= json_end + 8 && word(bytes, json_end + 4) == CHUNK_BIN).then(|| {
+        let start = json_end + 8;
+        bytes[start..start + word(bytes, json_end) as usize].to_vec()
+    });
+    Ok((&bytes[20..json_end], blob))
+}
+
+/// Drops the animation channels that target no node (KHR_animation_pointer's, which name
+/// their target by a JSON pointer instead), which the gltf crate cannot represent; chiaro
+/// plays no animations, so nothing it reads changes. Returns what was dropped.
+fn drop_pointer_channels(root: &mut serde_json::Value) -> Vec<String> {
+    let mut notes = Vec::new();
+    let Some(animations) = root.get_mut("animations").and_then(|a| a.as_array_mut()) else {
+        return notes;
+    };
+    for (a, animation) in animations.iter_mut().enumerate() {
+        let Some(channels) = animation.get_mut("channels").and_then(|c| c.as_array_mut()) else {
+            continue;
+        };
+        let before = channels.len();
+        channels.retain(|c| c.get("target").is_none_or(|t| t.get("node").is_some()));
+        if channels.len() < before {
+            notes.push(format!(
+                "animation {a}: skipped {} channels that target no node (animation pointers)",
+                before - channels.len()
+            ));
+        }
+    }
+    notes
+}
+
+/// Validates the document as the gltf crate would, except for two things the specification
+/// allows and chiaro handles: an accessor without a buffer view (all zeros, unless sparse) and
+/// a texture whose image comes from an extension only (e.g. EXT_texture_webp), which chiaro
+/// cannot decode and leaves out, using the material's factors.
+fn validate(root: &gltf::json::Root) -> Result<(), String> {
+    use gltf::json::validation::{Error, Validate};
+    let mut errors = Vec::new();
+    root.validate(root, gltf::json::Path::new, &mut |path, error| {
+        let path = path().to_string();
+        let allowed = matches!(error, Error::Missing)
+            && ((path.starts_with("accessors[") && path.ends_with("].bufferView"))
+                || (path.starts_with("textures[") && path.ends_with("].source")));
+        if !allowed {
+            errors.push(format!("{path}: {error}"));
+        }
+    });
+    match errors.is_empty() {
+        true => Ok(()),
+        false => Err(format!("invalid glTF: {}", errors.join("; "))),
+    }
+}
+
+/// A parsed glTF: the validated document, the GLB binary chunk, and notes on what was left out.
+pub(crate) struct Parsed {
+    /// The document.
+    pub document: gltf::Document,
+    /// The GLB's binary chunk.
+    pub blob: Option<Vec<u8>>,
+    /// Parts skipped while parsing, for the import report.
+    pub notes: Vec<String>,
+}
+
+/// Parses and validates a .gltf or .glb file's bytes: the document and the GLB binary chunk.
+pub(crate) fn parse(bytes: &[u8]) -> Result<Parsed, String> {
+    let (json, blob) = split(bytes)?;
+    let mut value: serde_json::Value =
+        serde_json::from_slice(json).map_err(|e| format!("JSON: {e}"))?;
+    super::integers::check_integer_fields(&value)?;
+    let notes = drop_pointer_channels(&mut value);
+    let mut root: gltf::json::Root = serde_json::from_value(value).map_err(|e| e.to_string())?;
     if let Some(ext) = root
         .extensions_required
         .iter()
@@ -136,8 +208,12 @@ pub(crate) fn parse(bytes: &[u8]) -> Result<(gltf::Document, Option<Vec<u8>>), S
         .retain(|e| gltf::json::extensions::ENABLED_EXTENSIONS.contains(&e.as_str()));
     check_attribute_references(&root)?;
     check_image_sources(&root)?;
-    let document = gltf::Document::from_json(root).map_err(|e| e.to_string())?;
-    Ok((document, unchecked.blob))
+    validate(&root)?;
+    Ok(Parsed {
+        document: gltf::Document::from_json_without_validation(root),
+        blob,
+        notes,
+    })
 }
 
 #[cfg(test)]

@@ -4,13 +4,12 @@
 
 use std::collections::HashMap;
 use std::io::Cursor;
-use std::path::Path;
 
 use glam::{Affine2, Mat2, Vec2, Vec3, Vec4};
 use image::ImageReader;
 
 use crate::error::Repair;
-use crate::gltf::sources::{UriSource, read_file, resolve_uri};
+use crate::gltf::sources::{FileAccess, UriSource, read_file};
 use crate::material::{AlphaMode, Filter, Material, Sampler, TextureRef, WrapMode};
 use crate::texture::{ColorSpace, Texture, TextureId};
 
@@ -21,7 +20,7 @@ pub const MAX_TEXTURE_SIDE: u32 = 16384;
 pub(crate) struct MaterialImporter<'a> {
     pub document: &'a gltf::Document,
     pub buffers: &'a [Vec<u8>],
-    pub base: &'a Path,
+    pub access: FileAccess<'a>,
     pub textures: Vec<Texture>,
     pub repairs: Vec<Repair>,
     decoded: HashMap<(usize, ColorSpace), Option<TextureId>>,
@@ -97,11 +96,15 @@ pub(crate) fn texture_transform_matrix(offset: Vec2, rotation: f32, scale: Vec2)
 }
 
 impl<'a> MaterialImporter<'a> {
-    pub fn new(document: &'a gltf::Document, buffers: &'a [Vec<u8>], base: &'a Path) -> Self {
+    pub fn new(
+        document: &'a gltf::Document,
+        buffers: &'a [Vec<u8>],
+        access: FileAccess<'a>,
+    ) -> Self {
         Self {
             document,
             buffers,
-            base,
+            access,
             textures: Vec::new(),
             repairs: Vec::new(),
             decoded: HashMap::new(),
@@ -298,6 +301,23 @@ impl<'a> MaterialImporter<'a> {
         texture: &gltf::Texture,
         space: ColorSpace,
     ) -> Option<TextureId> {
+        // A texture whose image only an extension names (EXT_texture_webp, say) has no source
+        // here; the gltf crate's sentinel is u32::MAX.
+        if self.document.as_json().textures[texture.index()]
+            .source
+            .value()
+            == u32::MAX as usize
+        {
+            self.repair(
+                element.into(),
+                format!(
+                    "{slot_name} texture {} has no image chiaro can decode (only an extension's): \
+                     the factor alone is used",
+                    texture.index()
+                ),
+            );
+            return None;
+        }
         let image = texture.source();
         let key = (image.index(), space);
         if let Some(done) = self.decoded.get(&key) {
@@ -350,7 +370,7 @@ impl<'a> MaterialImporter<'a> {
                     bytes.to_vec(),
                 )
             }
-            gltf::image::Source::Uri { uri, .. } => match resolve_uri(self.base, uri)? {
+            gltf::image::Source::Uri { uri, .. } => match self.access.resolve(uri)? {
                 UriSource::Embedded(bytes) => {
                     (format!("image {} (data URI)", image.index()), bytes)
                 }

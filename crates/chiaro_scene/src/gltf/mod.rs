@@ -10,6 +10,7 @@
 mod accessor;
 mod container;
 mod gpu_instancing;
+mod integers;
 mod materials;
 mod nodes;
 mod primitives;
@@ -23,6 +24,7 @@ pub use nodes::MIN_SCALE;
 pub use sources::MAX_FILE_BYTES;
 
 use crate::error::{Fault, SceneError};
+use crate::load::LoadOptions;
 use crate::scene_builder::SceneBuilder;
 
 /// Extensions chiaro reads; a file that requires any other is refused.
@@ -34,21 +36,38 @@ pub const SUPPORTED_EXTENSIONS: [&str; 5] = [
     "KHR_texture_transform",
 ];
 
-/// Loads a .gltf or .glb file into a builder, ready to spawn.
+/// Loads a .gltf or .glb file into a builder, ready to spawn, with the default
+/// [`LoadOptions`] (files inside the model's folder only).
 pub fn load_gltf(path: &Path) -> Result<SceneBuilder, SceneError> {
+    load_gltf_with(path, &LoadOptions::default())
+}
+
+/// Loads a .gltf or .glb file into a builder, ready to spawn.
+pub fn load_gltf_with(path: &Path, options: &LoadOptions) -> Result<SceneBuilder, SceneError> {
     let source = path.display().to_string();
     let whole = |fault: Fault| SceneError::whole(source.clone(), fault);
-    let bytes = sources::read_file(path).map_err(whole)?;
-    let (document, blob) = container::parse(&bytes).map_err(|e| whole(Fault::Gltf(e)))?;
+    let bytes = sources::read_model_file(path).map_err(whole)?;
+    let container::Parsed {
+        document,
+        blob,
+        notes,
+    } = container::parse(&bytes).map_err(|e| whole(Fault::Gltf(e)))?;
     drop(bytes);
     let base = path.parent().unwrap_or(Path::new("."));
+    let access = sources::FileAccess {
+        base,
+        allow_outside: options.allow_outside_files,
+    };
     let at = |(element, fault): (String, Fault)| SceneError::at(source.clone(), element, fault);
-    let buffers = sources::load_buffers(&document, blob, base).map_err(at)?;
+    let buffers = sources::load_buffers(&document, blob, access).map_err(at)?;
     check_buffer_views(&document, &buffers).map_err(at)?;
     check_cameras(&document).map_err(at)?;
 
     let mut builder = SceneBuilder::new(source);
-    let mut importer = materials::MaterialImporter::new(&document, &buffers, base);
+    for note in notes {
+        builder.repair("document", note);
+    }
+    let mut importer = materials::MaterialImporter::new(&document, &buffers, access);
     let materials = importer.convert_all();
     for texture in std::mem::take(&mut importer.textures) {
         builder.add_texture(texture);

@@ -1,0 +1,147 @@
+//! Parsers for the command line's values. Each refuses what means nothing (NaN, infinities,
+//! numbers out of range, a colour that is not three finite non-negative numbers) with a message
+//! that clap prefixes with the argument's name, so `--env-strength nan` says which argument is
+//! wrong and what it takes instead of acting as some default.
+
+use std::path::PathBuf;
+
+use glam::Vec3;
+
+/// Largest image side the command line takes.
+pub const MAX_SIDE: u32 = 16384;
+
+/// Most frames `render` and `bench` take (a frame's timings are kept, so the count is bounded).
+pub const MAX_FRAMES: u32 = 1_000_000;
+
+/// Most worker threads `reference` starts.
+pub const MAX_THREADS: usize = chiaro::reference::MAX_THREADS;
+
+/// Largest multiplier of the environment's radiance (radiance beyond ~1e38 overflows f32).
+pub const MAX_ENV_STRENGTH: f32 = 1e9;
+
+/// `WxH`, each side in `1..=MAX_SIDE`.
+pub fn size(text: &str) -> Result<(u32, u32), String> {
+    let (w, h) = text
+        .split_once('x')
+        .ok_or_else(|| format!("'{text}' is not WxH"))?;
+    match (w.parse::<u32>(), h.parse::<u32>()) {
+        (Ok(w), Ok(h)) if (1..=MAX_SIDE).contains(&w) && (1..=MAX_SIDE).contains(&h) => Ok((w, h)),
+        _ => Err(format!("'{text}' is not WxH with sides in 1..={MAX_SIDE}")),
+    }
+}
+
+/// A finite number.
+fn finite(text: &str) -> Result<f32, String> {
+    let value: f32 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{text}' is not a number"))?;
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(format!("'{text}' is not a finite number"))
+    }
+}
+
+/// A finite number at or above 0.
+pub fn non_negative(text: &str) -> Result<f32, String> {
+    match finite(text)? {
+        v if v >= 0.0 => Ok(v),
+        _ => Err(format!("{text} is below 0")),
+    }
+}
+
+/// A finite number above 0.
+pub fn positive(text: &str) -> Result<f32, String> {
+    match finite(text)? {
+        v if v > 0.0 => Ok(v),
+        _ => Err(format!("{text} is not above 0")),
+    }
+}
+
+/// The environment's strength: finite, in `0..=MAX_ENV_STRENGTH`.
+pub fn env_strength(text: &str) -> Result<f32, String> {
+    match non_negative(text)? {
+        v if v <= MAX_ENV_STRENGTH => Ok(v),
+        _ => Err(format!("{text} is above {MAX_ENV_STRENGTH:e}")),
+    }
+}
+
+/// What `--env` names: a constant colour or an image file.
+#[derive(Clone, Debug, PartialEq)]
+pub enum EnvArg {
+    /// A constant linear colour.
+    Color(Vec3),
+    /// An equirectangular .hdr or .exr image.
+    Image(PathBuf),
+}
+
+/// `--env`: an image file ending in .hdr or .exr, or a colour `R,G,B` of three finite numbers
+/// in `0..=MAX_ENV_STRENGTH`.
+pub fn env(text: &str) -> Result<EnvArg, String> {
+    let lower = text.to_ascii_lowercase();
+    if lower.ends_with(".hdr") || lower.ends_with(".exr") {
+        return Ok(EnvArg::Image(PathBuf::from(text)));
+    }
+    if !text.contains(',') {
+        return Err(format!(
+            "'{text}' is neither an .hdr or .exr image nor a colour R,G,B"
+        ));
+    }
+    let parts: Vec<&str> = text.split(',').collect();
+    if parts.len() != 3 {
+        return Err(format!(
+            "'{text}' is not a colour R,G,B: it has {} components",
+            parts.len()
+        ));
+    }
+    let mut color = [0.0; 3];
+    for (c, part) in color.iter_mut().zip(&parts) {
+        *c = env_strength(part).map_err(|why| format!("colour '{text}': {why}"))?;
+    }
+    Ok(EnvArg::Color(Vec3::from(color)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_that_mean_nothing_are_refused() {
+        for bad in ["nan", "inf", "-inf", "1e39", "x", ""] {
+            assert!(non_negative(bad).is_err(), "{bad}");
+            assert!(positive(bad).is_err(), "{bad}");
+        }
+        assert!(non_negative("-1").unwrap_err().contains("below 0"));
+        assert_eq!(non_negative("0"), Ok(0.0));
+        assert!(positive("0").unwrap_err().contains("not above 0"));
+        assert!(env_strength("1e10").unwrap_err().contains("above"));
+        assert_eq!(env_strength("2.5"), Ok(2.5));
+    }
+
+    #[test]
+    fn env_tells_colours_from_images_and_names_the_fault() {
+        assert_eq!(
+            env("0.1, 0.2,0.3"),
+            Ok(EnvArg::Color(Vec3::new(0.1, 0.2, 0.3)))
+        );
+        assert_eq!(env("sky.EXR"), Ok(EnvArg::Image(PathBuf::from("sky.EXR"))));
+        assert!(
+            env("1,nan,2")
+                .unwrap_err()
+                .contains("'nan' is not a finite number")
+        );
+        assert!(env("-1,0,0").unwrap_err().contains("-1 is below 0"));
+        assert!(env("1e39,0,0").unwrap_err().contains("not a finite number"));
+        assert!(env("1,2").unwrap_err().contains("2 components"));
+        assert!(env("sky.png").unwrap_err().contains("neither"));
+    }
+
+    #[test]
+    fn sizes_are_bounded() {
+        assert_eq!(size("64x32"), Ok((64, 32)));
+        for bad in ["0x4", "4x0", "16385x2", "4", "axb"] {
+            assert!(size(bad).is_err(), "{bad}");
+        }
+    }
+}
