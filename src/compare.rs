@@ -20,14 +20,14 @@ pub struct CompareArgs {
     heatmap: Option<PathBuf>,
     /// relMSE's epsilon, added to the reference's square: mean((x - y)^2 / (y^2 + epsilon)).
     #[arg(long, default_value_t = chiaro::eval::metrics::DEFAULT_REL_MSE_EPSILON,
-          value_parser = crate::args::positive)]
+          value_parser = crate::args::positive, allow_negative_numbers = true)]
     epsilon: f32,
     /// Tonemapper that turns linear images into the 8-bit sRGB ones PSNR and FLIP read (aces,
     /// neutral, clamp); 8-bit inputs are used as stored.
     #[arg(long, default_value = "neutral")]
     tonemapper: Tonemapper,
     /// Exposure before tonemapping: a finite multiplier above 0.
-    #[arg(long, default_value_t = 1.0, value_parser = crate::args::positive)]
+    #[arg(long, default_value_t = 1.0, value_parser = crate::args::positive, allow_negative_numbers = true)]
     exposure: f32,
 }
 

@@ -40,7 +40,7 @@ struct SceneArgs {
     #[arg(long, value_parser = args::env)]
     env: Option<args::EnvArg>,
     /// Multiplies the environment's radiance (0..=1e9).
-    #[arg(long, default_value_t = 1.0, value_parser = args::env_strength)]
+    #[arg(long, default_value_t = 1.0, value_parser = args::env_strength, allow_negative_numbers = true)]
     env_strength: f32,
     /// Let a glTF read buffers and images outside its own folder (absolute paths, file: URIs,
     /// `..` leaving the folder), which are refused by default.
@@ -90,7 +90,7 @@ enum Command {
         #[arg(long, value_parser = args::env)]
         env: Option<args::EnvArg>,
         /// Multiplies the environment's radiance (0..=1e9).
-        #[arg(long, default_value_t = 1.0, value_parser = args::env_strength)]
+        #[arg(long, default_value_t = 1.0, value_parser = args::env_strength, allow_negative_numbers = true)]
         env_strength: f32,
         /// Let a glTF read files outside its own folder (refused by default).
         #[arg(long)]
@@ -166,7 +166,7 @@ enum Command {
         #[arg(long, value_parser = args::env)]
         env: Option<args::EnvArg>,
         /// Multiplies the environment's radiance (0..=1e9).
-        #[arg(long, default_value_t = 1.0, value_parser = args::env_strength)]
+        #[arg(long, default_value_t = 1.0, value_parser = args::env_strength, allow_negative_numbers = true)]
         env_strength: f32,
         /// Let a glTF read files outside its own folder (refused by default).
         #[arg(long)]
@@ -243,7 +243,7 @@ struct FrameArgs {
     /// sample or randomly picked light) may bring, in units of display white at the exposure, a
     /// brighter one scaled down to it (fewer fireflies, some energy lost); 0 is off.
     #[arg(long, default_value_t = chiaro::gpu::settings::DEFAULT_FIREFLY_CLAMP,
-          value_parser = args::non_negative)]
+          value_parser = args::non_negative, allow_negative_numbers = true)]
     firefly_clamp: f32,
 }
 

@@ -1,75 +1,13 @@
 //! Hand-made corrupt inputs, one test each: every one ends in a clear error naming the file and
 //! the element, or loads with a repair that says what was dropped.
 
-use std::path::PathBuf;
+mod common;
+
 use std::time::{Duration, Instant};
 
-use base64::Engine;
-use bevy_ecs::world::World;
-use chiaro::scene::{Fault, Materials, MeshFault, SceneError, SceneInfo, SpawnedScene, load_scene};
-use serde_json::{Value, json};
-
-/// A scratch folder for one test's files.
-fn scratch(test: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("chiaro-corrupt-{}-{test}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn bytes_of(floats: &[f32], ints: &[u32]) -> Vec<u8> {
-    floats
-        .iter()
-        .flat_map(|f| f.to_le_bytes())
-        .chain(ints.iter().flat_map(|i| i.to_le_bytes()))
-        .collect()
-}
-
-/// A glTF with one mesh of `positions` and `indices` in an embedded buffer, drawn by node 0.
-fn mesh_gltf(positions: &[[f32; 3]], indices: &[u32]) -> Value {
-    let floats: Vec<f32> = positions.iter().flatten().copied().collect();
-    let data = bytes_of(&floats, indices);
-    let uri = format!(
-        "data:application/octet-stream;base64,{}",
-        base64::engine::general_purpose::STANDARD.encode(&data)
-    );
-    let pos_len = floats.len() * 4;
-    json!({
-        "asset": {"version": "2.0"},
-        "scene": 0,
-        "scenes": [{"nodes": [0]}],
-        "nodes": [{"mesh": 0, "name": "holder"}],
-        "meshes": [{"name": "quad", "primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
-        "buffers": [{"byteLength": data.len(), "uri": uri}],
-        "bufferViews": [
-            {"buffer": 0, "byteOffset": 0, "byteLength": pos_len},
-            {"buffer": 0, "byteOffset": pos_len, "byteLength": indices.len() * 4}
-        ],
-        "accessors": [
-            {"bufferView": 0, "componentType": 5126, "count": positions.len(), "type": "VEC3",
-             "min": [-1.0, -1.0, -1.0], "max": [1.0, 1.0, 1.0]},
-            {"bufferView": 1, "componentType": 5125, "count": indices.len(), "type": "SCALAR"}
-        ]
-    })
-}
-
-const QUAD: [[f32; 3]; 4] = [
-    [0.0, 0.0, 0.0],
-    [1.0, 0.0, 0.0],
-    [1.0, 1.0, 0.0],
-    [0.0, 1.0, 0.0],
-];
-
-fn write(test: &str, name: &str, json: &Value) -> String {
-    let path = scratch(test).join(name);
-    std::fs::write(&path, serde_json::to_vec_pretty(json).unwrap()).unwrap();
-    path.display().to_string()
-}
-
-fn load(path: &str) -> (World, Result<SpawnedScene, SceneError>) {
-    let mut world = World::new();
-    let result = load_scene(&mut world, path);
-    (world, result)
-}
+use chiaro::scene::{Fault, Materials, MeshFault, SceneInfo};
+use common::hand_made::{QUAD, load, mesh_gltf, scratch, write};
+use serde_json::json;
 
 #[test]
 fn nan_vertex_drops_the_triangles_that_use_it() {

@@ -2,6 +2,8 @@
 
 #![allow(dead_code)]
 
+pub mod hand_made;
+
 use std::path::PathBuf;
 
 /// The shared folder beside the checkout; fails with a clear message when it is absent.

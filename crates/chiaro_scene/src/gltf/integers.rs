@@ -1,22 +1,19 @@
-//! glTF's integer fields (indices, counts, offsets, enums) checked on the raw JSON before the
+//! glTF's index and enum fields checked on the raw JSON before the
 //! gltf crate reads it: that crate keeps them as u32 and takes a larger number modulo 2^32, so
 //! `"camera": 4294967297` would quietly name camera 1. Any such field holding an integer beyond
 //! u32 is refused with its JSON path.
 
 use serde_json::Value;
 
-/// Keys whose values are integers (or arrays of integers) in glTF 2.0 and the extensions
-/// chiaro reads.
-const INTEGER_KEYS: [&str; 31] = [
+/// Keys whose values are 32-bit integers (or arrays of them) in the gltf crate's model of
+/// glTF 2.0 and the extensions chiaro reads: indices and enums. Byte lengths, offsets, strides
+/// and counts it keeps in 64 bits, and chiaro checks them against the data.
+const INTEGER_KEYS: [&str; 28] = [
     "buffer",
     "bufferView",
-    "byteLength",
-    "byteOffset",
-    "byteStride",
     "camera",
     "children",
     "componentType",
-    "count",
     "index",
     "indices",
     "input",
@@ -39,6 +36,7 @@ const INTEGER_KEYS: [&str; 31] = [
     "target",
     "texCoord",
     "wrapS",
+    "wrapT",
 ];
 
 /// Keys whose values are objects (or arrays of objects) mapping names to integers: a

@@ -14,7 +14,7 @@ use crate::gltf::primitives::{Converted, convert_primitive};
 use crate::material::{Material, MaterialId};
 use crate::mesh::MeshId;
 use crate::scene_builder::{Node, NodeIndex, SceneBuilder};
-use crate::transform::Transform;
+use crate::transform::{MAX_HIERARCHY_DEPTH, Transform};
 
 /// Smallest scale magnitude that is not treated as singular.
 pub const MIN_SCALE: f32 = 1e-20;
@@ -320,15 +320,29 @@ impl<'a> NodeImporter<'a> {
             }
         }
         let nodes: Vec<gltf::Node> = self.document.nodes().collect();
-        let mut stack: Vec<(usize, Option<NodeIndex>)> =
-            roots.into_iter().rev().map(|r| (r, None)).collect();
-        while let Some((index, parent_node)) = stack.pop() {
+        let mut stack: Vec<(usize, Option<NodeIndex>, usize)> =
+            roots.into_iter().rev().map(|r| (r, None, 0)).collect();
+        while let Some((index, parent_node, depth)) = stack.pop() {
             let Some(node) = nodes.get(index) else {
                 continue;
             };
+            if depth > MAX_HIERARCHY_DEPTH {
+                return Err(self.error(
+                    element("node", index, node.name()),
+                    Fault::Hierarchy(format!(
+                        "is {depth} levels below its scene's root, deeper than the \
+                         {MAX_HIERARCHY_DEPTH} levels chiaro follows"
+                    )),
+                ));
+            }
             if let Some(added) = self.node(node, parent_node)? {
                 let children: Vec<usize> = node.children().map(|c| c.index()).collect();
-                stack.extend(children.into_iter().rev().map(|c| (c, Some(added))));
+                stack.extend(
+                    children
+                        .into_iter()
+                        .rev()
+                        .map(|c| (c, Some(added), depth + 1)),
+                );
             }
         }
         Ok(())
