@@ -96,6 +96,39 @@ fn vs_main(v: VertexIn, @builtin(instance_index) instance: u32) -> VertexOut {
     return out;
 }
 
+// Most rounding error (in radians, about) at which the plane of the position's screen-space
+// slopes is trusted to check the flat face.
+const SLOPE_TRUST: f32 = 0.01;
+// Least |cos| between the flat face and the slopes' plane at which the flat face is the
+// fragment's own triangle's.
+const FACE_AGREEMENT: f32 = 0.99;
+
+// The fragment's triangle's front side (unit): the flat face from its first vertex, checked
+// against the plane in which the world position's screen-space slopes `dx`, `dy` lie. A driver
+// may hand a triangle the flat attributes of another vertex (llvmpipe's GL, Mesa 22.3, did for
+// one triangle of builtin:instances), so where the slopes are precise enough to tell (their
+// rounding, f32 epsilon times the position's size over the slopes', below SLOPE_TRUST) and the
+// two disagree (|cos| below FACE_AGREEMENT), the slopes' plane is taken, on the side of the
+// flat face or, where that is zero or nearly perpendicular, of the interpolated normal.
+// Elsewhere the flat face stands: it is exact.
+fn checked_face(flat: vec3<f32>, world: vec3<f32>, dx: vec3<f32>, dy: vec3<f32>,
+    interpolated: vec3<f32>) -> vec3<f32> {
+    let face = safe_normalize(flat, vec3<f32>(0.0));
+    let slopes = cross(dx, dy);
+    let largest = max(max(abs(world.x), abs(world.y)), abs(world.z));
+    let rounding = F32_EPSILON * largest / min(length(dx), length(dy));
+    if !(rounding < SLOPE_TRUST) || dot(slopes, slopes) == 0.0 {
+        return safe_normalize(flat, vec3<f32>(0.0, 0.0, 1.0));
+    }
+    let plane = normalize(slopes);
+    let agreement = dot(face, plane);
+    if abs(agreement) >= FACE_AGREEMENT {
+        return face;
+    }
+    let side = select(interpolated, face, abs(agreement) > 0.1);
+    return select(plane, -plane, dot(plane, side) < 0.0);
+}
+
 struct GbufferOut {
     @location(0) position: vec4<u32>,
     @location(1) surface: vec4<u32>,
@@ -106,6 +139,9 @@ struct GbufferOut {
 
 @fragment
 fn fs_main(in: VertexOut) -> GbufferOut {
+    // Taken first, in uniform control flow (before any discard).
+    let dx = dpdx(in.world);
+    let dy = dpdy(in.world);
     let record = bvh_load_instance_whole(in.instance);
     let material = scene_material(record.material);
     let mesh_flags = scene_meshes[record.mesh].flags;
@@ -116,7 +152,7 @@ fn fs_main(in: VertexOut) -> GbufferOut {
     }
     let view = in.world - camera.origin;
     let incoming = select(view, camera.forward, camera.orthographic != 0u);
-    let geometric_front = safe_normalize(in.face, vec3<f32>(0.0, 0.0, 1.0));
+    let geometric_front = checked_face(in.face, in.world, dx, dy, in.normal);
     let mirrored = scene_instance_extras[in.instance].mirrored != 0u;
     let shading_front = mapped_shading_normal(material, mesh_flags, in.uvs, in.normal, in.tangent,
         mirrored, geometric_front);

@@ -38,8 +38,10 @@ use kernel::Kernel;
 const INPUTS: usize = 1_000_000;
 /// Inputs per GPU run.
 const BATCH: usize = 250_000;
-/// Relative error bound of eval, pdf and specular_probability (same inputs on both sides).
-const REL_EVAL: f32 = 1e-5;
+/// Relative error bound of eval, pdf and specular_probability (same inputs on both sides): a
+/// few ulps, amplified at grazing angles; fused multiply-adds (which WGSL allows, and
+/// llvmpipe's GL path makes) gave 1.3e-5 at a view 1e-4 above the horizon.
+const REL_EVAL: f32 = 2e-5;
 /// Absolute bound on each component of the sampled direction (its x and y go through `cos`,
 /// `sin` and square roots of differences near 0, which WGSL computes less exactly than Rust).
 const DIR_TOL: f32 = 5e-4;
