@@ -21,6 +21,18 @@ fn external_buffer(test: &str, uri: &str) -> Value {
     gltf
 }
 
+/// Appends `bytes` to the glTF's buffers as a base64 data URI (buffer 1 after mesh_gltf's).
+fn add_embedded_buffer(gltf: &mut Value, bytes: &[u8]) {
+    let uri = format!(
+        "data:application/octet-stream;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(bytes)
+    );
+    gltf["buffers"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({"byteLength": bytes.len(), "uri": uri}));
+}
+
 #[test]
 fn uris_leaving_the_folder_are_refused_unless_allowed() {
     // The buffer sits one folder up from the model, in the test's scratch folder.
@@ -92,15 +104,7 @@ fn an_index_beyond_u32_is_refused_not_wrapped() {
 fn a_nan_vertex_from_a_sparse_accessor_leaves_bounds_and_camera_finite() {
     // Vertex 1 of the quad becomes NaN through a sparse substitution.
     let mut gltf = mesh_gltf(&QUAD, &[0, 1, 2, 0, 2, 3]);
-    let sparse = bytes_of(&[f32::NAN, f32::INFINITY, 0.0], &[1]);
-    let uri = format!(
-        "data:application/octet-stream;base64,{}",
-        base64::engine::general_purpose::STANDARD.encode(&sparse)
-    );
-    gltf["buffers"]
-        .as_array_mut()
-        .unwrap()
-        .push(json!({"byteLength": sparse.len(), "uri": uri}));
+    add_embedded_buffer(&mut gltf, &bytes_of(&[f32::NAN, f32::INFINITY, 0.0], &[1]));
     let views = gltf["bufferViews"].as_array_mut().unwrap();
     views.push(json!({"buffer": 1, "byteOffset": 0, "byteLength": 12}));
     views.push(json!({"buffer": 1, "byteOffset": 12, "byteLength": 4}));
@@ -173,14 +177,7 @@ fn textured_quad() -> Value {
         &QUAD.iter().flat_map(|p| [p[0], p[1]]).collect::<Vec<_>>(),
         &[],
     );
-    let uri = format!(
-        "data:application/octet-stream;base64,{}",
-        base64::engine::general_purpose::STANDARD.encode(&uvs)
-    );
-    gltf["buffers"]
-        .as_array_mut()
-        .unwrap()
-        .push(json!({"byteLength": uvs.len(), "uri": uri}));
+    add_embedded_buffer(&mut gltf, &uvs);
     gltf["bufferViews"]
         .as_array_mut()
         .unwrap()
