@@ -67,6 +67,9 @@ fn brdf_light(s: Shading, numbers: vec3<f32>, first: ptr<function, vec4<u32>>) -
         return vec3<f32>(0.0);
     }
     let wi = frame_to_world(s.frame, bs.wi);
+    if !above_surface(s, wi) {
+        return vec3<f32>(0.0);
+    }
     let hit = trace_closest(leaving_ray(s, wi), f32_infinity());
     *first = first_bounce_encode(hit);
     return bs.weight * emission_reached(s, wi, hit, bs.pdf, !bs.delta);

@@ -108,7 +108,7 @@ fn brdf_scatter(s: Shading, numbers: vec3<f32>) -> Scatter {
     out.weight = bs.weight;
     out.pdf = bs.pdf;
     out.delta = bs.delta;
-    out.valid = bs.valid;
+    out.valid = bs.valid && above_surface(s, out.wi);
     return out;
 }
 
@@ -120,7 +120,7 @@ fn uniform_scatter(s: Shading, rng: ptr<function, Pcg32>) -> Scatter {
     out.weight = brdf_eval(s.params, s.wo, wi) * (wi.z / UNIFORM_HEMISPHERE_PDF);
     out.pdf = UNIFORM_HEMISPHERE_PDF;
     out.delta = false;
-    out.valid = true;
+    out.valid = above_surface(s, out.wi);
     return out;
 }
 

@@ -60,7 +60,7 @@ fn cornell_box_is_pure_lambertian() {
     let materials = world.resource::<chiaro::scene::Materials>();
     let mut count = 0;
     for (_, m) in materials.iter() {
-        assert_eq!(m.dielectric_f0(), 0.0, "{}: IOR {}", m.name, m.ior);
+        assert_eq!(m.specular, 0.0, "{}: specular layer", m.name);
         assert_eq!((m.metallic, m.roughness), (0.0, 1.0), "{}", m.name);
         count += 1;
     }

@@ -1,15 +1,15 @@
-// The glTF 2.0 metallic-roughness BRDF in the local shading frame (z = shading normal; wo and wi
-// unit, pointing away from the surface). Mirrors chiaro_shading::brdf, whose documentation is
-// the spec:
+// The glTF 2.0 metallic-roughness BRDF (Appendix B, with KHR_materials_specular's fresnel_mix)
+// in the local shading frame (z = shading normal; wo and wi unit, pointing away from the
+// surface). Mirrors chiaro_shading::brdf, whose documentation is the spec:
 //
-// f = (1 - absorption) [ (1 - F(n.wo)) (1 - F(n.wi)) (1 - metallic) base_color / pi
-//                        + D G2 F(h.wi) / (4 |n.wo| |n.wi|) ]
+// dielectric = (1 - specular max(F_d)) base_color / pi + specular F_d D V,
+//   F_d = Schlick(min(f0_ior specular_color, 1), h.wi)
+// metal = Schlick(base_color, h.wi) D V
+// f = (1 - absorption) mix(dielectric, metal, metallic)
 //
-// - Cook and Torrance, 1982, "A Reflectance Model for Computer Graphics"; D and G2 as in
-//   ggx.wgsl (Walter et al. 2007; Heitz 2014).
-// - Schlick, 1994, "An Inexpensive BRDF Model for Physically-based Rendering" (F), with
-//   F90 = clamp(50 luminance(F0), 0, 1) (Guy and Agopian, "Physically Based Rendering in
-//   Filament", section 4.4.3).
+// - D and V (Smith height-correlated G2 / (4 n.wo n.wi)) as in ggx.wgsl (Walter et al. 2007;
+//   Heitz 2014); Schlick, 1994, "An Inexpensive BRDF Model for Physically-based Rendering"
+//   (F90 = 1).
 // - Sampling: Fresnel-weighted lobe choice, cosine-weighted diffuse, GGX visible normals
 //   (Heitz 2018), one-sample MIS with the combined pdf (Veach, 1997, thesis, section 9.2.4).
 //
@@ -29,6 +29,8 @@ struct SurfaceParams {
     metallic: f32,
     roughness: f32,
     f0_dielectric: f32,
+    specular: f32,
+    specular_color: vec3<f32>,
     absorption: f32,
 }
 
@@ -44,9 +46,10 @@ struct BrdfSample {
 
 // The material with every clamp applied and its derived quantities.
 struct BrdfMaterial {
-    diffuse: vec3<f32>,
-    f0: vec3<f32>,
-    f90: f32,
+    base: vec3<f32>,
+    metallic: f32,
+    f0_dielectric: vec3<f32>,
+    specular: f32,
     alpha: f32,
     scale: f32,
     mirror: bool,
@@ -59,41 +62,52 @@ fn f0_from_ior(ior_in: f32) -> f32 {
     return r * r;
 }
 
-// Schlick's Fresnel: F0 + (F90 - F0) (1 - cos)^5, cos clamped to [0, 1].
-fn fresnel_schlick(f0: vec3<f32>, f90: f32, cos_theta: f32) -> vec3<f32> {
+// Schlick's Fresnel with F90 = 1: F0 + (1 - F0) (1 - cos)^5, cos clamped to [0, 1].
+fn fresnel_schlick(f0: vec3<f32>, cos_theta: f32) -> vec3<f32> {
     let m = 1.0 - clamp(cos_theta, 0.0, 1.0);
     let m2 = m * m;
     let m5 = m2 * m2 * m;
-    return f0 + (vec3<f32>(f90) - f0) * m5;
-}
-
-// clamp(50 luminance(F0), 0, 1).
-fn f90_from_f0(f0: vec3<f32>) -> f32 {
-    return clamp(50.0 * luminance(f0), 0.0, 1.0);
+    return f0 + (vec3<f32>(1.0) - f0) * m5;
 }
 
 fn brdf_material(p: SurfaceParams) -> BrdfMaterial {
-    let base = clamp(p.base_color, vec3<f32>(0.0), vec3<f32>(1.0));
-    let metallic = clamp(p.metallic, 0.0, 1.0);
-    let f0_dielectric = clamp(p.f0_dielectric, 0.0, 1.0);
-    // A weighted sum (not mix) so that metallic 1 gives exactly base_color.
-    let f0 = vec3<f32>(f0_dielectric * (1.0 - metallic)) + base * metallic;
+    let f0_ior = clamp(p.f0_dielectric, 0.0, 1.0);
+    let specular_color = max(p.specular_color, vec3<f32>(0.0));
     let alpha = alpha_from_roughness(p.roughness);
     var m: BrdfMaterial;
-    m.diffuse = base * (1.0 - metallic);
-    m.f0 = f0;
-    m.f90 = f90_from_f0(f0);
+    m.base = clamp(p.base_color, vec3<f32>(0.0), vec3<f32>(1.0));
+    m.metallic = clamp(p.metallic, 0.0, 1.0);
+    m.f0_dielectric = min(specular_color * f0_ior, vec3<f32>(1.0));
+    m.specular = clamp(p.specular, 0.0, 1.0);
     m.alpha = alpha;
     m.scale = 1.0 - clamp(p.absorption, 0.0, 1.0);
     m.mirror = alpha < MIRROR_ALPHA;
     return m;
 }
 
+// The lobes' Fresnel weights at one cosine: the specular lobe's colour and the diffuse lobe's
+// (base colour included).
+struct FresnelWeights {
+    specular: vec3<f32>,
+    diffuse: vec3<f32>,
+}
+
+fn brdf_fresnel(m: BrdfMaterial, cos_theta: f32) -> FresnelWeights {
+    let dielectric = fresnel_schlick(m.f0_dielectric, cos_theta);
+    let metal = fresnel_schlick(m.base, cos_theta);
+    let dielectric_weight = 1.0 - m.metallic;
+    let dielectric_max = max(max(dielectric.x, dielectric.y), dielectric.z);
+    var w: FresnelWeights;
+    w.specular = dielectric * (dielectric_weight * m.specular) + metal * m.metallic;
+    w.diffuse = m.base * (dielectric_weight * (1.0 - m.specular * dielectric_max));
+    return w;
+}
+
 // (specular, diffuse) selection probabilities for this view: both 0 when nothing reflects.
 fn brdf_lobe_probabilities(m: BrdfMaterial, wo_z: f32) -> vec2<f32> {
-    let fresnel = fresnel_schlick(m.f0, m.f90, wo_z);
-    let specular = luminance(fresnel);
-    let diffuse = luminance((vec3<f32>(1.0) - fresnel) * m.diffuse);
+    let weights = brdf_fresnel(m, wo_z);
+    let specular = luminance(weights.specular);
+    let diffuse = luminance(weights.diffuse);
     var p: f32;
     if specular <= 0.0 && diffuse <= 0.0 {
         return vec2<f32>(0.0);
@@ -128,14 +142,13 @@ struct BrdfLobes {
 
 fn brdf_lobes(m: BrdfMaterial, wo: vec3<f32>, wi: vec3<f32>) -> BrdfLobes {
     let h = brdf_half_vector(wo, wi);
-    let fresnel = fresnel_schlick(m.f0, m.f90, dot(h, wi));
+    let weights = brdf_fresnel(m, dot(h, wi));
     var l: BrdfLobes;
-    l.diffuse = (vec3<f32>(1.0) - fresnel_schlick(m.f0, m.f90, wo.z))
-        * (vec3<f32>(1.0) - fresnel_schlick(m.f0, m.f90, wi.z)) * m.diffuse;
+    l.diffuse = weights.diffuse;
     if m.mirror {
         l.specular = vec3<f32>(0.0);
     } else {
-        l.specular = fresnel * (ndf(h, m.alpha) * visibility(wo, wi, m.alpha));
+        l.specular = weights.specular * (ndf(h, m.alpha) * visibility(wo, wi, m.alpha));
     }
     return l;
 }
@@ -202,9 +215,8 @@ fn brdf_sample(p: SurfaceParams, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>) -> Br
     var wi: vec3<f32>;
     if u_lobe < p_specular {
         if m.mirror {
-            let fresnel = fresnel_schlick(m.f0, m.f90, wo.z);
             s.wi = vec3<f32>(-wo.x, -wo.y, wo.z);
-            s.weight = fresnel * m.scale / p_specular;
+            s.weight = brdf_fresnel(m, wo.z).specular * m.scale / p_specular;
             s.pdf = p_specular;
             s.delta = true;
             s.valid = true;

@@ -85,7 +85,7 @@ fn light_unoccluded_value(s: Shading, ls: LightSample) -> vec4<f32> {
         return vec4<f32>(0.0);
     }
     let wi = frame_to_local(s.frame, ls.wi);
-    if wi.z <= 0.0 || dot(ls.wi, s.geometric_normal) <= 0.0 || all(ls.radiance == vec3<f32>(0.0)) {
+    if wi.z <= 0.0 || !above_surface(s, ls.wi) || all(ls.radiance == vec3<f32>(0.0)) {
         return vec4<f32>(0.0);
     }
     let f = brdf_eval(s.params, s.wo, wi) * wi.z;

@@ -80,7 +80,7 @@ fn gbuffer_shading(g: GbufferSurface, camera: GpuCamera) -> Shading {
         camera.orthographic != 0u);
     s.wo = frame_to_local(s.frame, to_eye);
     s.params = SurfaceParams(g.base_color, g.metallic, g.roughness, material.f0_dielectric,
-        material.absorption);
+        material.specular, material.specular_color, material.absorption);
     return s;
 }
 
@@ -128,8 +128,15 @@ fn surface_at_hit(direction: vec3<f32>, hit: Hit) -> SurfaceHit {
     s.params = SurfaceParams(material.base_color.xyz * base.xyz,
         clamp(material.metallic * metallic_roughness.z, 0.0, 1.0),
         clamp(material.roughness * metallic_roughness.y, 0.0, 1.0), material.f0_dielectric,
-        material.absorption);
+        material.specular, material.specular_color, material.absorption);
     return SurfaceHit(s, normals.shades);
+}
+
+// The shading-normal rule (chiaro_reference's above_surface): a world direction at or below
+// the geometric surface (its normal turned towards the viewer) carries nothing, whatever the
+// shading normal says: a BRDF sample there ends the path, a light sample there counts zero.
+fn above_surface(s: Shading, wi: vec3<f32>) -> bool {
+    return dot(wi, s.geometric_normal) > 0.0;
 }
 
 // A ray leaving the shading point along the world direction wi, its origin offset to the side

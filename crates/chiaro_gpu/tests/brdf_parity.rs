@@ -70,6 +70,8 @@ struct BrdfInput {
     u: [f32; 2],
     u_lobe: f32,
     absorption: f32,
+    specular_color: [f32; 3],
+    specular: f32,
 }
 
 #[repr(C)]
@@ -99,6 +101,8 @@ struct BrdfInput {
     u: vec2<f32>,
     u_lobe: f32,
     absorption: f32,
+    specular_color: vec3<f32>,
+    specular: f32,
 }
 
 struct BrdfOutput {
@@ -121,7 +125,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let x = inputs[i];
-    let p = SurfaceParams(x.base_color, x.metallic, x.roughness, x.f0_dielectric, x.absorption);
+    let p = SurfaceParams(x.base_color, x.metallic, x.roughness, x.f0_dielectric, x.specular,
+        x.specular_color, x.absorption);
     var o: BrdfOutput;
     o.eval = brdf_eval(p, x.wo, x.wi);
     o.pdf = brdf_pdf(p, x.wo, x.wi);
@@ -179,12 +184,16 @@ fn random_params(rng: &mut Pcg32) -> SurfaceParams {
     let metallic = pick(&[0.0, 1.0]);
     let f0_dielectric = pick(&[0.0, 0.04, 1.0]);
     let absorption = pick(&[0.0, 1.0]);
+    let specular = pick(&[0.0, 1.0]);
     let base_color = Vec3::new(pick(&[0.0, 1.0]), pick(&[0.0, 1.0]), pick(&[0.0, 1.0]));
+    let specular_color = Vec3::new(pick(&[0.0, 1.0]), pick(&[1.0]), pick(&[0.0, 30.0]));
     SurfaceParams {
         base_color,
         metallic,
         roughness,
         f0_dielectric,
+        specular,
+        specular_color,
         absorption,
     }
 }
@@ -218,6 +227,8 @@ fn random_input(rng: &mut Pcg32) -> BrdfInput {
         u,
         u_lobe,
         absorption: p.absorption,
+        specular_color: p.specular_color.to_array(),
+        specular: p.specular,
     }
 }
 
@@ -227,6 +238,8 @@ fn params(x: &BrdfInput) -> SurfaceParams {
         metallic: x.metallic,
         roughness: x.roughness,
         f0_dielectric: x.f0_dielectric,
+        specular: x.specular,
+        specular_color: Vec3::from_array(x.specular_color),
         absorption: x.absorption,
     }
 }

@@ -132,6 +132,15 @@ fn sample_light(scene: &RenderScene, entry: &LightEntry, p: Vec3, u: Vec2) -> Op
     }
 }
 
+/// The shading-normal rule: light arrives at and leaves a reflecting surface only on the side
+/// its geometric normal (turned towards the viewer) faces. A world direction `wi` at or below
+/// that surface carries nothing, whatever the shading normal says (as Cycles does): a BRDF
+/// sample there ends the path instead of passing through the surface, and a light sample there
+/// counts zero.
+fn above_surface(si: &SurfaceHit, wi: Vec3) -> bool {
+    wi.dot(si.geometric_normal) > 0.0
+}
+
 /// Next-event estimate at `si`: one light picked by power, sampled, tested for visibility.
 fn direct_light(scene: &RenderScene, si: &SurfaceHit, wo: Vec3, rng: &mut Pcg32) -> Vec3 {
     let (u_pick, u) = (rng.next_f32(), rng.next_vec2());
@@ -142,7 +151,7 @@ fn direct_light(scene: &RenderScene, si: &SurfaceHit, wo: Vec3, rng: &mut Pcg32)
         return Vec3::ZERO;
     };
     let wi = si.frame.to_local(ls.wi);
-    if wi.z <= 0.0 || ls.wi.dot(si.geometric_normal) <= 0.0 || ls.radiance == Vec3::ZERO {
+    if wi.z <= 0.0 || !above_surface(si, ls.wi) || ls.radiance == Vec3::ZERO {
         return Vec3::ZERO;
     }
     let f = brdf::eval(&si.params, wo, wi) * wi.z;
@@ -225,18 +234,18 @@ pub fn radiance(
         let Some(sample) = brdf::sample(&si.params, wo, rng.next_f32(), rng.next_vec2()) else {
             break;
         };
+        let wi = si.frame.to_world(sample.wi);
+        // A direction above the shading normal but below the geometric surface carries
+        // nothing (the shading-normal rule): going on through the surface would leak light.
+        if !above_surface(&si, wi) {
+            break;
+        }
         throughput *= sample.weight;
         if !throughput.is_finite() || throughput == Vec3::ZERO {
             break;
         }
-        let wi = si.frame.to_world(sample.wi);
-        let side = if wi.dot(si.geometric_normal) >= 0.0 {
-            si.geometric_normal
-        } else {
-            -si.geometric_normal
-        };
         ray = Ray {
-            origin: offset_ray_origin(si.position, side),
+            origin: offset_ray_origin(si.position, si.geometric_normal),
             direction: wi,
             t_min: 0.0,
             t_max: f32::INFINITY,

@@ -170,6 +170,8 @@ pub fn surface_at(scene: &RenderScene, ray: &Ray, hit: &Hit) -> SurfaceHit {
         metallic: (material.metallic * metallic_roughness.z).clamp(0.0, 1.0),
         roughness: (material.roughness * metallic_roughness.y).clamp(0.0, 1.0),
         f0_dielectric: material.dielectric_f0(),
+        specular: material.specular,
+        specular_color: material.specular_color,
         absorption: material.absorption,
     };
     let emission = if shades {

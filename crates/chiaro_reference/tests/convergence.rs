@@ -55,7 +55,7 @@ fn furnace_converges_to_one() {
     assert!(se < 0.02, "standard error {se}");
 }
 
-/// A Lambertian plane (albedo 0.5, no specular: IOR 1) lit by a point light of intensity I at
+/// A Lambertian plane (albedo 0.5, no specular layer) lit by a point light of intensity I at
 /// height h, seen straight down by an orthographic camera. Nothing else is visible and the plane
 /// cannot see itself, so the radiance at a point at distance d from the light is exactly
 /// (albedo / pi) * I * h / d^3.
@@ -63,9 +63,7 @@ fn furnace_converges_to_one() {
 fn point_light_over_a_plane_matches_the_closed_form() {
     let (albedo, intensity, height, half_view) = (0.5f32, 10.0f32, 2.0f32, 2.0f32);
     let mut b = SceneBuilder::new("point light over a plane");
-    let mut plane = Material::diffuse("plane", Vec3::splat(albedo), 1.0);
-    plane.ior = 1.0;
-    let material = b.add_material(plane);
+    let material = b.add_material(Material::lambertian("plane", Vec3::splat(albedo)));
     let mesh = b.add_mesh("mesh", "plane", floor(20.0)).unwrap().unwrap();
     b.add_instance("plane", mesh, material, Transform::IDENTITY);
     b.add_node(Node {

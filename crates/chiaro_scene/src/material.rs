@@ -104,6 +104,12 @@ pub struct Material {
     pub double_sided: bool,
     /// Index of refraction for the dielectric F0 (KHR_materials_ior; 1.5 gives F0 = 0.04).
     pub ior: f32,
+    /// KHR_materials_specular's specularFactor in [0, 1]: the strength of the dielectric's
+    /// specular layer (1 when absent; 0 makes a dielectric purely Lambertian).
+    pub specular: f32,
+    /// KHR_materials_specular's specularColorFactor (linear, each channel at least 0): it
+    /// scales the dielectric's F0, which is then capped at 1 (1 when absent).
+    pub specular_color: Vec3,
     /// The notes' energy absorption factor in [0, 1]: the BRDF is scaled by (1 - absorption).
     /// Read from the material's glTF `extras` as `{"absorption": x}`; 0 when absent.
     pub absorption: f32,
@@ -128,6 +134,8 @@ impl Default for Material {
             alpha_mode: AlphaMode::Opaque,
             double_sided: false,
             ior: 1.5,
+            specular: 1.0,
+            specular_color: Vec3::ONE,
             absorption: 0.0,
         }
     }
@@ -142,6 +150,15 @@ impl Material {
             metallic: 0.0,
             roughness,
             ..Self::default()
+        }
+    }
+
+    /// A purely Lambertian surface of this linear colour: a dielectric with no specular layer
+    /// (KHR_materials_specular's factor 0), roughness 1.
+    pub fn lambertian(name: &str, color: Vec3) -> Self {
+        Self {
+            specular: 0.0,
+            ..Self::diffuse(name, color, 1.0)
         }
     }
 

@@ -1,29 +1,31 @@
-//! The glTF 2.0 metallic-roughness BRDF: a Lambertian diffuse lobe and a GGX Cook-Torrance
-//! specular lobe, mixed by Schlick's Fresnel, in the local shading frame (z = shading normal;
-//! `wo` and `wi` are unit vectors pointing away from the surface).
+//! The glTF 2.0 metallic-roughness BRDF exactly as the specification's Appendix B defines it,
+//! with KHR_materials_specular's two parameters, in the local shading frame (z = shading normal;
+//! `wo` and `wi` are unit vectors pointing away from the surface):
 //!
-//! f(wo, wi) = (1 - absorption) [ (1 - F(n.wo)) (1 - F(n.wi)) (1 - metallic) base_color / pi
-//!                                + D G2 F(h.wi) / (4 |n.wo| |n.wi|) ]
+//! - dielectric = fresnel_mix: (1 - specular max(F_d)) base_color / pi + specular F_d D V,
+//!   F_d = Schlick at h.wi with F0 = min(f0_ior specular_color, 1) and F90 = 1
+//!   (KHR_materials_specular's form of fresnel_mix; without the extension specular = 1 and
+//!   specular_color = 1, which is the core spec's mix(diffuse, specular, F_d));
+//! - metal = F_m D V, F_m = Schlick at h.wi with F0 = base_color and F90 = 1 (conductor_fresnel);
+//! - f = (1 - absorption) mix(dielectric, metal, metallic).
 //!
 //! - D: GGX with alpha = roughness^2 ([`crate::ggx::ndf`]; Walter et al., 2007, "Microfacet Models
 //!   for Refraction through Rough Surfaces").
-//! - G2: Smith height-correlated masking-shadowing for GGX ([`crate::ggx::visibility`]; Heitz,
-//!   2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs").
-//! - F: Schlick, 1994, "An Inexpensive BRDF Model for Physically-based Rendering", at the half
-//!   vector (h.wi), with F0 = mix(f0_dielectric, base_color, metallic) and
-//!   F90 = clamp(50 luminance(F0), 0, 1) (Filament's convention, Guy and Agopian, "Physically Based
-//!   Rendering in Filament", section 4.4.3): F0 = 0 switches specular off entirely, so a material
-//!   with IOR 1 and metallic 0 is exactly Lambertian.
-//! - The diffuse lobe is weighted by (1 - F(n.wo)) (1 - F(n.wi)): light reaching the diffuse base
-//!   crosses the specular interface once going in and once coming out (the coupling of a
-//!   Lambertian base under a Fresnel interface, as in Shirley et al., 1997, "A Practitioners'
-//!   Assessment of Light Reflection Models"). It is reciprocal and conserves energy: the
-//!   specular lobe reflects at most F(n.wo) (Schlick's F falls with the angle's cosine and
-//!   h.wo >= n.wo), the diffuse lobe at most (1 - F(n.wo)) base_color. glTF 2.0's reference mix
-//!   (appendix B, `fresnel_mix`, diffuse weighted by 1 - F(h.wi)) was measured to gain energy at
-//!   grazing views for bright dielectrics (a white dielectric with F0 0.04 at cos 0.05: albedo 1.13
-//!   at roughness 0.5, 1.72 for a mirror), which a ground truth cannot accept; the price is a
-//!   white dielectric about 8% darker than glTF viewers show at normal incidence (0.918).
+//! - V = G2 / (4 |n.wo| |n.wi|): Smith height-correlated masking-shadowing for GGX
+//!   ([`crate::ggx::visibility`]; Heitz, 2014, "Understanding the Masking-Shadowing Function in
+//!   Microfacet-Based BRDFs").
+//! - F: Schlick, 1994, "An Inexpensive BRDF Model for Physically-based Rendering".
+//! - `absorption` is the notes' energy-absorption factor (0 by default).
+//!
+//! The notes' LearnOpenGL form (one Fresnel term with F0 = mix(0.04, base_color, metallic) and a
+//! diffuse weight (1 - F)(1 - metallic)) is the same model for metallic 0 and 1 and differs in
+//! between; chiaro follows the scene format, which defines the material, and Blender Cycles
+//! renders glTF files the same way. The spec's mix is not energy-conserving for bright
+//! dielectrics at grazing views (its diffuse weight uses h.wi, not n.wo): a white dielectric of
+//! IOR 1.5 seen at cos 0.05 reflects 1.13 at roughness 0.5 and 1.72 as a mirror. That is the
+//! format's definition, measured in this module's tests; at normal incidence it reflects 0.805
+//! for base colour 0.8 and roughness 0.5, as Cycles does. A purely Lambertian surface is
+//! `specular = 0` (KHR_materials_specular's specularFactor 0).
 //!
 //! Sampling ([`sample`]): one lobe is picked with a Fresnel-weighted estimate
 //! ([`specular_probability`]), diffuse by cosine-weighted hemisphere sampling, specular by GGX
@@ -32,7 +34,9 @@
 //! 1997, thesis, section 9.2.4), so [`pdf`] is that combined pdf.
 //!
 //! Clamps (all applied on entry, so every function sees the same material):
-//! - `base_color` per channel, `metallic`, `roughness`, `f0_dielectric` and `absorption` to [0, 1];
+//! - `base_color` per channel, `metallic`, `roughness`, `f0_dielectric`, `specular` and
+//!   `absorption` to [0, 1]; `specular_color` to at least 0 (the extension lets it exceed 1),
+//!   the dielectric's F0 to at most 1;
 //! - alpha below [`MIRROR_ALPHA`] makes the specular lobe a perfect mirror (a delta lobe);
 //! - the cosine passed to Schlick's formula is clamped to [0, 1];
 //! - the visibility denominator is kept at least [`crate::ggx::VISIBILITY_DENOMINATOR_FLOOR`].
@@ -83,6 +87,14 @@ pub struct SurfaceParams {
     /// Dielectric normal-incidence reflectance, ((ior - 1) / (ior + 1))^2 ([`f0_from_ior`]);
     /// clamped to [0, 1].
     pub f0_dielectric: f32,
+    /// KHR_materials_specular's strength of the dielectric's specular layer (specularFactor
+    /// times the specular texture's alpha; 1 without the extension, 0 for a Lambertian
+    /// surface); clamped to [0, 1].
+    pub specular: f32,
+    /// KHR_materials_specular's colour of the dielectric's F0 (specularColorFactor times the
+    /// specular colour texture; 1 without the extension). Negative channels count as 0; the
+    /// dielectric's F0 is min(f0_dielectric specular_color, 1).
+    pub specular_color: Vec3,
     /// Fraction of energy absorbed: f is scaled by (1 - absorption). Clamped to [0, 1].
     pub absorption: f32,
 }
@@ -95,6 +107,8 @@ impl Default for SurfaceParams {
             metallic: 1.0,
             roughness: 1.0,
             f0_dielectric: DEFAULT_F0_DIELECTRIC,
+            specular: 1.0,
+            specular_color: Vec3::ONE,
             absorption: 0.0,
         }
     }
@@ -105,8 +119,8 @@ impl Default for SurfaceParams {
 pub struct BrdfSample {
     /// The incident direction, local frame, wi.z > 0.
     pub wi: Vec3,
-    /// The throughput multiplier: f cos / pdf for non-delta samples; for the mirror lobe,
-    /// F (1 - absorption) / (its selection probability).
+    /// The throughput multiplier: f cos / pdf for non-delta samples; for the mirror lobe, its
+    /// Fresnel weight times (1 - absorption) over its selection probability.
     pub weight: Vec3,
     /// The solid-angle pdf of `wi` over both non-delta lobes ([`pdf`]); for the mirror lobe, its
     /// selection probability.
@@ -115,28 +129,24 @@ pub struct BrdfSample {
     pub delta: bool,
 }
 
-/// Schlick's Fresnel approximation: F0 + (F90 - F0) (1 - cos)^5, with cos clamped to [0, 1].
-pub fn fresnel_schlick(f0: Vec3, f90: f32, cos_theta: f32) -> Vec3 {
+/// Schlick's Fresnel approximation with F90 = 1: F0 + (1 - F0) (1 - cos)^5, with cos clamped to
+/// [0, 1].
+pub fn fresnel_schlick(f0: Vec3, cos_theta: f32) -> Vec3 {
     let m = 1.0 - cos_theta.clamp(0.0, 1.0);
     let m2 = m * m;
     let m5 = m2 * m2 * m;
-    f0 + (Vec3::splat(f90) - f0) * m5
-}
-
-/// The grazing reflectance for a normal-incidence reflectance: clamp(50 luminance(F0), 0, 1)
-/// (Filament: no real material has F0 below 0.02, so lower values are read as pre-baked occlusion
-/// and take the grazing reflectance down with them).
-pub fn f90_from_f0(f0: Vec3) -> f32 {
-    (50.0 * luminance(f0)).clamp(0.0, 1.0)
+    f0 + (Vec3::ONE - f0) * m5
 }
 
 /// The material with every clamp applied and the derived quantities every function needs.
 #[derive(Clone, Copy, Debug)]
 struct Material {
-    /// (1 - metallic) base_color.
-    diffuse: Vec3,
-    f0: Vec3,
-    f90: f32,
+    base: Vec3,
+    metallic: f32,
+    /// The dielectric's F0: min(f0_ior specular_color, 1).
+    f0_dielectric: Vec3,
+    /// KHR_materials_specular's weight of the dielectric's specular layer.
+    specular: f32,
     alpha: f32,
     /// 1 - absorption.
     scale: f32,
@@ -144,30 +154,49 @@ struct Material {
     mirror: bool,
 }
 
+/// The Fresnel weights of the two lobes at one cosine: the specular lobe's colour and the
+/// diffuse lobe's colour (base colour included).
+struct FresnelWeights {
+    specular: Vec3,
+    diffuse: Vec3,
+}
+
 impl Material {
     fn new(p: &SurfaceParams) -> Self {
-        let base = p.base_color.clamp(Vec3::ZERO, Vec3::ONE);
-        let metallic = p.metallic.clamp(0.0, 1.0);
-        let f0_dielectric = p.f0_dielectric.clamp(0.0, 1.0);
-        // Written as a weighted sum (not `lerp`) so that metallic 1 gives exactly base_color.
-        let f0 = Vec3::splat(f0_dielectric * (1.0 - metallic)) + base * metallic;
+        let f0_ior = p.f0_dielectric.clamp(0.0, 1.0);
+        let specular_color = p.specular_color.max(Vec3::ZERO);
         let alpha = ggx::alpha_from_roughness(p.roughness);
         Self {
-            diffuse: base * (1.0 - metallic),
-            f0,
-            f90: f90_from_f0(f0),
+            base: p.base_color.clamp(Vec3::ZERO, Vec3::ONE),
+            metallic: p.metallic.clamp(0.0, 1.0),
+            f0_dielectric: (specular_color * f0_ior).min(Vec3::ONE),
+            specular: p.specular.clamp(0.0, 1.0),
             alpha,
             scale: 1.0 - p.absorption.clamp(0.0, 1.0),
             mirror: alpha < MIRROR_ALPHA,
         }
     }
 
+    /// The lobes' Fresnel weights at `cos` (h.wi for evaluation, n.wo for estimates):
+    /// specular (1 - metallic) specular F_d + metallic F_m, diffuse
+    /// (1 - metallic) (1 - specular max(F_d)) base_color.
+    fn fresnel(&self, cos: f32) -> FresnelWeights {
+        let dielectric = fresnel_schlick(self.f0_dielectric, cos);
+        let metal = fresnel_schlick(self.base, cos);
+        let dielectric_weight = 1.0 - self.metallic;
+        FresnelWeights {
+            specular: dielectric * (dielectric_weight * self.specular) + metal * self.metallic,
+            diffuse: self.base
+                * (dielectric_weight * (1.0 - self.specular * dielectric.max_element())),
+        }
+    }
+
     /// Selection probabilities (specular, diffuse) for this view: both 0 when the material
     /// reflects nothing, otherwise summing to 1.
     fn lobe_probabilities(&self, wo_z: f32) -> (f32, f32) {
-        let fresnel = fresnel_schlick(self.f0, self.f90, wo_z);
-        let specular = luminance(fresnel);
-        let diffuse = luminance((Vec3::ONE - fresnel) * self.diffuse);
+        let weights = self.fresnel(wo_z);
+        let specular = luminance(weights.specular);
+        let diffuse = luminance(weights.diffuse);
         let p = if specular <= 0.0 && diffuse <= 0.0 {
             return (0.0, 0.0);
         } else if diffuse <= 0.0 {
@@ -198,16 +227,13 @@ fn half_vector(wo: Vec3, wi: Vec3) -> Vec3 {
 /// diffuse lobe times pi (so it is exactly the diffuse albedo): (pi f_diffuse, f_specular).
 fn lobes(m: &Material, wo: Vec3, wi: Vec3) -> (Vec3, Vec3) {
     let h = half_vector(wo, wi);
-    let fresnel = fresnel_schlick(m.f0, m.f90, h.dot(wi));
-    let diffuse = (Vec3::ONE - fresnel_schlick(m.f0, m.f90, wo.z))
-        * (Vec3::ONE - fresnel_schlick(m.f0, m.f90, wi.z))
-        * m.diffuse;
+    let weights = m.fresnel(h.dot(wi));
     let specular = if m.mirror {
         Vec3::ZERO
     } else {
-        fresnel * (ggx::ndf(h, m.alpha) * ggx::visibility(wo, wi, m.alpha))
+        weights.specular * (ggx::ndf(h, m.alpha) * ggx::visibility(wo, wi, m.alpha))
     };
-    (diffuse, specular)
+    (weights.diffuse, specular)
 }
 
 /// The solid-angle pdf of the specular lobe's VNDF sampling for wo, wi above the surface (0 for
@@ -219,9 +245,8 @@ fn specular_pdf(m: &Material, wo: Vec3, wi: Vec3) -> f32 {
     ggx::reflected_vndf_pdf(wo, half_vector(wo, wi), m.alpha)
 }
 
-/// The probability that [`sample`] picks the specular lobe for this view: luminance of Schlick's
-/// F(wo.z) against luminance of the diffuse weight (1 - F(wo.z)) (1 - metallic) base_color,
-/// clamped to [`MIN_LOBE_PROBABILITY`], 1 - [`MIN_LOBE_PROBABILITY`] when both lobes exist;
+/// The probability that [`sample`] picks the specular lobe for this view: the luminance of the
+/// specular lobe's Fresnel weight at n.wo against the diffuse lobe's, clamped to [`MIN_LOBE_PROBABILITY`], 1 - [`MIN_LOBE_PROBABILITY`] when both lobes exist;
 /// exactly 0 or 1 when only one does; 0 when the material reflects nothing or wo.z <= 0.
 pub fn specular_probability(p: &SurfaceParams, wo: Vec3) -> f32 {
     if wo.z <= 0.0 {
@@ -279,10 +304,9 @@ pub fn sample(p: &SurfaceParams, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BrdfS
     let wi = if u_lobe < p_specular {
         if m.mirror {
             let wi = Vec3::new(-wo.x, -wo.y, wo.z);
-            let fresnel = fresnel_schlick(m.f0, m.f90, wo.z);
             return Some(BrdfSample {
                 wi,
-                weight: fresnel * m.scale / p_specular,
+                weight: m.fresnel(wo.z).specular * m.scale / p_specular,
                 pdf: p_specular,
                 delta: true,
             });
@@ -314,5 +338,7 @@ pub fn sample(p: &SurfaceParams, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BrdfS
 
 #[cfg(test)]
 mod chi2_tests;
+#[cfg(test)]
+mod spec_tests;
 #[cfg(test)]
 mod tests;

@@ -171,8 +171,12 @@ pub struct GpuMaterial {
     pub normal_scale: f32,
     /// `MATERIAL_*` bits.
     pub flags: u32,
+    /// KHR_materials_specular's factor (1 without the extension).
+    pub specular: f32,
     /// Padding, zero.
     pub pad0: u32,
+    /// KHR_materials_specular's colour factor (1 without the extension).
+    pub specular_color: [f32; 3],
     /// Padding, zero.
     pub pad1: u32,
     /// Base colour texture.
@@ -334,7 +338,7 @@ mod tests {
     #[test]
     fn sizes_are_multiples_of_their_alignment() {
         assert_eq!(size_of::<GpuVertex>(), 64);
-        assert_eq!(size_of::<GpuMaterial>(), 256);
+        assert_eq!(size_of::<GpuMaterial>(), 272);
         assert_eq!(size_of::<GpuLight>(), 64);
         assert_eq!(size_of::<GpuInstanceExtra>(), 64);
         assert_eq!(size_of::<GpuSceneInfo>(), 64);

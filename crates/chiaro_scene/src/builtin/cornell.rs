@@ -25,11 +25,11 @@ fn p(x: f32, y: f32, z: f32) -> Vec3 {
 
 /// Builds the box into `b`: 8 meshes, 32 triangles, 4 materials, one camera.
 pub(super) fn build(b: &mut SceneBuilder) -> Result<(), SceneError> {
-    let white = b.add_material(lambertian("white", Vec3::new(0.725, 0.71, 0.68)));
-    let red = b.add_material(lambertian("red", Vec3::new(0.63, 0.065, 0.05)));
-    let green = b.add_material(lambertian("green", Vec3::new(0.14, 0.45, 0.091)));
+    let white = b.add_material(Material::lambertian("white", Vec3::new(0.725, 0.71, 0.68)));
+    let red = b.add_material(Material::lambertian("red", Vec3::new(0.63, 0.065, 0.05)));
+    let green = b.add_material(Material::lambertian("green", Vec3::new(0.14, 0.45, 0.091)));
     let light = b.add_material(Material {
-        ior: 1.0,
+        specular: 0.0,
         ..Material::emitter("light", Vec3::new(17.0, 12.0, 4.0))
     });
 
@@ -184,14 +184,6 @@ pub(super) fn build(b: &mut SceneBuilder) -> Result<(), SceneError> {
         ..Node::default()
     });
     Ok(())
-}
-
-/// A pure Lambertian material: roughness 1 and IOR 1, so F0 = 0 and there is no specular lobe.
-fn lambertian(name: &str, color: Vec3) -> Material {
-    Material {
-        ior: 1.0,
-        ..Material::diffuse(name, color, 1.0)
-    }
 }
 
 fn add(

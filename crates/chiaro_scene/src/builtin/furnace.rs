@@ -1,6 +1,7 @@
 //! The white-furnace test: the inside of a closed sphere whose surface is diffuse with albedo 0.5
 //! and emits radiance 0.5 everywhere. Every path sees L = 0.5 + 0.5 L, so the exact radiance in
-//! every pixel is 1. The material's IOR is 1 (F0 = 0) so that its only lobe is the diffuse one.
+//! every pixel is 1. The material has no specular layer (KHR_materials_specular's factor 0), so
+//! that its only lobe is the diffuse one.
 
 use glam::Vec3;
 
@@ -16,9 +17,8 @@ use super::shapes::icosphere;
 pub const FURNACE_SUBDIVISION: u32 = 4;
 
 pub(super) fn build(b: &mut SceneBuilder) -> Result<(), SceneError> {
-    let mut shell = Material::diffuse("furnace shell", Vec3::splat(0.5), 1.0);
+    let mut shell = Material::lambertian("furnace shell", Vec3::splat(0.5));
     shell.emissive = Vec3::splat(0.5);
-    shell.ior = 1.0;
     shell.double_sided = true;
     let material = b.add_material(shell);
     if let Some(mesh) = b.add_mesh(

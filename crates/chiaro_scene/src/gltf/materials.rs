@@ -111,7 +111,7 @@ impl<'a> MaterialImporter<'a> {
         }
     }
 
-    fn repair(&mut self, element: String, action: String) {
+    pub(super) fn repair(&mut self, element: String, action: String) {
         self.repairs.push(Repair { element, action });
     }
 
@@ -181,6 +181,7 @@ impl<'a> MaterialImporter<'a> {
         material.emissive_texture =
             emissive_slot.and_then(|s| self.slot(&element, "emissive", s, ColorSpace::Srgb));
         material.absorption = self.absorption(&element, m);
+        self.read_specular(&element, m, &mut material);
         self.sanitize_factors(&element, &mut material);
         if material.alpha_mode == AlphaMode::Blend {
             self.repair(element, "alpha mode BLEND is rendered as opaque".into());

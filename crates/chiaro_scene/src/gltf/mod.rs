@@ -2,7 +2,7 @@
 //!
 //! Read: the default scene (or the first), its node hierarchy, triangle primitives (strips and
 //! fans converted, points and lines skipped), materials with KHR_materials_emissive_strength,
-//! KHR_materials_ior and KHR_texture_transform, KHR_lights_punctual, EXT_mesh_gpu_instancing,
+//! KHR_materials_ior, KHR_materials_specular's factors and KHR_texture_transform, KHR_lights_punctual, EXT_mesh_gpu_instancing,
 //! cameras. Every byte range is
 //! checked before it is read; faults are errors naming the file and the element, or repairs
 //! reported with what was dropped and how many (see [`crate::mesh_repair`]).
@@ -11,6 +11,7 @@ mod accessor;
 mod container;
 mod gpu_instancing;
 mod integers;
+mod material_extensions;
 mod materials;
 mod nodes;
 mod primitives;
@@ -28,11 +29,12 @@ use crate::load::LoadOptions;
 use crate::scene_builder::SceneBuilder;
 
 /// Extensions chiaro reads; a file that requires any other is refused.
-pub const SUPPORTED_EXTENSIONS: [&str; 5] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 6] = [
     "EXT_mesh_gpu_instancing",
     "KHR_lights_punctual",
     "KHR_materials_emissive_strength",
     "KHR_materials_ior",
+    "KHR_materials_specular",
     "KHR_texture_transform",
 ];
 

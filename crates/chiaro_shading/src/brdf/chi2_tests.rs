@@ -184,8 +184,7 @@ fn materials(roughness: f32) -> [(&'static str, SurfaceParams); 2] {
         base_color: Vec3::new(0.9, 0.6, 0.3),
         metallic: 1.0,
         roughness,
-        f0_dielectric: DEFAULT_F0_DIELECTRIC,
-        absorption: 0.0,
+        ..SurfaceParams::default()
     };
     let plastic = SurfaceParams {
         base_color: Vec3::new(0.2, 0.5, 0.8),

@@ -1,0 +1,186 @@
+//! The BRDF against glTF 2.0's Appendix B written out independently here in double precision
+//! (with KHR_materials_specular's fresnel_mix): pointwise values, directional albedos by
+//! quadrature against the sampler's estimates, and the reference figures of a flat quad under a
+//! constant environment (face-on base colour 0.8 roughness 0.5: 0.805; white, metallic 0.4,
+//! roughness 0.4: 0.986).
+
+use glam::{DVec3, Vec3};
+
+use super::tests::{direction, random_params, sampled_albedo};
+use super::*;
+use crate::rng::Pcg32;
+use crate::sampling::uniform_hemisphere;
+use crate::test_util::GaussLegendre;
+
+/// f(wo, wi) by the specification's formulas, in f64, for directions above the surface:
+/// mix(fresnel_mix(...), conductor_fresnel(...), metallic) (1 - absorption).
+fn spec_brdf(p: &SurfaceParams, wo: DVec3, wi: DVec3) -> DVec3 {
+    let c = p.base_color.as_dvec3().clamp(DVec3::ZERO, DVec3::ONE);
+    let metallic = p.metallic.clamp(0.0, 1.0) as f64;
+    let weight = p.specular.clamp(0.0, 1.0) as f64;
+    let f0_ior = p.f0_dielectric.clamp(0.0, 1.0) as f64;
+    let f0 = (p.specular_color.as_dvec3().max(DVec3::ZERO) * f0_ior).min(DVec3::ONE);
+    let r = p.roughness.clamp(0.0, 1.0) as f64;
+    let a2 = (r * r).powi(2);
+    let h = (wo + wi).normalize();
+    let (n_l, n_v, n_h, v_h) = (wi.z, wo.z, h.z, wo.dot(h));
+    let d = a2 / (std::f64::consts::PI * (n_h * n_h * (a2 - 1.0) + 1.0).powi(2));
+    let v = 0.5
+        / (n_l * (n_v * n_v * (1.0 - a2) + a2).sqrt() + n_v * (n_l * n_l * (1.0 - a2) + a2).sqrt());
+    let schlick = |f0: DVec3| f0 + (DVec3::ONE - f0) * (1.0 - v_h.abs()).powi(5);
+    let fr = schlick(f0);
+    let dielectric =
+        c * std::f64::consts::FRAC_1_PI * (1.0 - weight * fr.max_element()) + fr * (weight * d * v);
+    let metal = schlick(c) * (d * v);
+    (dielectric * (1.0 - metallic) + metal * metallic) * (1.0 - p.absorption.clamp(0.0, 1.0) as f64)
+}
+
+/// The directional albedo of the spec's BRDF by Gauss-Legendre quadrature over the hemisphere
+/// (theta and phi), in f64.
+fn spec_albedo(p: &SurfaceParams, wo: Vec3) -> DVec3 {
+    let theta_rule = GaussLegendre::new(400);
+    let phi_rule = GaussLegendre::new(400);
+    let wo = wo.as_dvec3();
+    let mut sum = DVec3::ZERO;
+    for k in 0..3 {
+        let albedo = theta_rule.integrate(0.0, std::f64::consts::FRAC_PI_2, |theta| {
+            phi_rule.integrate(0.0, std::f64::consts::TAU, |phi| {
+                let wi = DVec3::new(
+                    theta.sin() * phi.cos(),
+                    theta.sin() * phi.sin(),
+                    theta.cos(),
+                );
+                spec_brdf(p, wo, wi)[k] * wi.z * theta.sin()
+            })
+        });
+        sum[k] = albedo;
+    }
+    sum
+}
+
+/// Pointwise: eval equals the spec's formula (relative 1e-4, absolute 1e-6) for random materials
+/// without a mirror lobe (whose delta the spec leaves to the renderer) and random directions.
+#[test]
+fn eval_is_the_spec_formula() {
+    let mut rng = Pcg32::new(2024, 34);
+    let mut checked = 0;
+    for _ in 0..200_000 {
+        let p = random_params(&mut rng);
+        if ggx::alpha_from_roughness(p.roughness) < MIRROR_ALPHA {
+            continue;
+        }
+        let wo = uniform_hemisphere(rng.next_vec2());
+        let wi = uniform_hemisphere(rng.next_vec2());
+        if wo.z <= 1e-3 || wi.z <= 1e-3 {
+            continue;
+        }
+        let ours = eval(&p, wo, wi).as_dvec3();
+        let spec = spec_brdf(&p, wo.as_dvec3(), wi.as_dvec3());
+        let tol = 1e-4 * spec.max_element() + 1e-6;
+        assert!(
+            (ours - spec).abs().max_element() <= tol,
+            "{p:?} {wo} {wi}: {ours} against the spec's {spec}"
+        );
+        checked += 1;
+    }
+    assert!(checked > 100_000, "{checked}");
+}
+
+/// The sampler's albedo (f cos / pdf averaged over a stratified grid) equals the spec's albedo by
+/// quadrature within 1%, for dielectrics, metals, partly metallic and KHR_materials_specular
+/// materials, from the normal to 80 degrees: sample, pdf and eval together integrate the spec.
+#[test]
+fn sampled_albedo_matches_the_spec_by_quadrature() {
+    let mut rng = Pcg32::new(7, 34);
+    let dielectric = SurfaceParams {
+        base_color: Vec3::new(0.8, 0.5, 0.2),
+        metallic: 0.0,
+        roughness: 0.5,
+        ..SurfaceParams::default()
+    };
+    let materials = [
+        dielectric,
+        SurfaceParams {
+            metallic: 0.4,
+            roughness: 0.4,
+            base_color: Vec3::ONE,
+            ..dielectric
+        },
+        SurfaceParams {
+            metallic: 1.0,
+            roughness: 0.3,
+            ..dielectric
+        },
+        SurfaceParams {
+            specular: 0.5,
+            specular_color: Vec3::new(1.0, 0.2, 0.5),
+            f0_dielectric: f0_from_ior(2.0),
+            roughness: 0.7,
+            ..dielectric
+        },
+    ];
+    for p in materials {
+        for mu in [1.0f32, 0.7, 0.26, 0.17] {
+            let wo = direction(mu);
+            let sampled = sampled_albedo(&p, wo, 256, &mut rng).as_dvec3();
+            let exact = spec_albedo(&p, wo);
+            let error = ((sampled - exact) / exact.max(DVec3::splat(1e-3))).abs();
+            assert!(
+                error.max_element() < 0.01,
+                "{p:?} mu {mu}: sampled {sampled}, quadrature {exact}"
+            );
+        }
+    }
+}
+
+/// The flat quads of the materials cross-check: face-on, base colour 0.8 roughness 0.5 (IOR 1.5)
+/// reflects 0.805 of a constant environment, and white, metallic 0.4, roughness 0.4 reflects
+/// 0.986 (the spec's formula integrated numerically; Blender Cycles 0.802 and 0.985), both
+/// within 1%. The previous coupled-Fresnel model reflected 0.733 and 0.597.
+#[test]
+fn quad_albedos_are_the_spec_figures() {
+    let mut rng = Pcg32::new(11, 34);
+    let grey = SurfaceParams {
+        base_color: Vec3::splat(0.8),
+        metallic: 0.0,
+        roughness: 0.5,
+        ..SurfaceParams::default()
+    };
+    let partly_metallic = SurfaceParams {
+        base_color: Vec3::ONE,
+        metallic: 0.4,
+        roughness: 0.4,
+        ..SurfaceParams::default()
+    };
+    for (p, expected) in [(grey, 0.805), (partly_metallic, 0.986)] {
+        let exact = spec_albedo(&p, Vec3::Z).x;
+        let sampled = sampled_albedo(&p, Vec3::Z, 256, &mut rng).x as f64;
+        for value in [exact, sampled] {
+            assert!(
+                (value / expected - 1.0).abs() < 0.01,
+                "{p:?}: {value} against {expected}"
+            );
+        }
+    }
+}
+
+/// The spec's fresnel_mix weighs the diffuse lobe by 1 - F(h.wi), so a white dielectric seen at
+/// grazing angles reflects more than it receives: at cos 0.05, 1.13 at roughness 0.5 and 1.72
+/// as a mirror. chiaro renders what the format defines; this test pins that it does (within 2%).
+#[test]
+fn spec_albedo_at_grazing_views() {
+    let mut rng = Pcg32::new(8, 80);
+    let white = |roughness| SurfaceParams {
+        base_color: Vec3::ONE,
+        metallic: 0.0,
+        roughness,
+        ..SurfaceParams::default()
+    };
+    for (roughness, expected) in [(0.5, 1.13), (0.0, 1.72)] {
+        let e = sampled_albedo(&white(roughness), direction(0.05), 256, &mut rng).x;
+        assert!(
+            (e / expected - 1.0).abs() < 0.02,
+            "roughness {roughness}: {e} against {expected}"
+        );
+    }
+}
