@@ -46,6 +46,8 @@ struct SceneArgs {
     /// `..` leaving the folder), which are refused by default.
     #[arg(long)]
     allow_outside_files: bool,
+    #[command(flatten)]
+    light_units: args::LightUnitsArgs,
 }
 
 /// The memory a render may take.
@@ -95,6 +97,8 @@ enum Command {
         /// Let a glTF read files outside its own folder (refused by default).
         #[arg(long)]
         allow_outside_files: bool,
+        #[command(flatten)]
+        light_units: args::LightUnitsArgs,
         #[command(flatten)]
         memory: MemoryArgs,
         /// Image size, WxH.
@@ -171,6 +175,8 @@ enum Command {
         /// Let a glTF read files outside its own folder (refused by default).
         #[arg(long)]
         allow_outside_files: bool,
+        #[command(flatten)]
+        light_units: args::LightUnitsArgs,
         #[command(flatten)]
         memory: MemoryArgs,
         /// Window size, WxH.
@@ -306,6 +312,7 @@ fn main() -> Result<()> {
             env,
             env_strength,
             allow_outside_files,
+            light_units,
             memory,
             size,
             frames,
@@ -318,6 +325,7 @@ fn main() -> Result<()> {
                 env,
                 env_strength,
                 allow_outside_files,
+                light_units,
             };
             render(&scene, &memory, size, frames, &out, frame.settings(), seed)
         }
@@ -328,6 +336,7 @@ fn main() -> Result<()> {
             env,
             env_strength,
             allow_outside_files,
+            light_units,
             memory,
             size,
             script,
@@ -340,6 +349,7 @@ fn main() -> Result<()> {
                 env,
                 env_strength,
                 allow_outside_files,
+                light_units,
             };
             view(
                 &scene,
@@ -387,6 +397,7 @@ fn load(args: &SceneArgs) -> Result<World> {
     let mut world = World::new();
     let options = LoadOptions {
         allow_outside_files: args.allow_outside_files,
+        light_units: args.light_units.units(),
     };
     load_scene_with(&mut world, &args.scene, &options)?;
     if let Some(env) = &args.env {

@@ -68,6 +68,11 @@ fn numbers_that_mean_nothing_are_refused_by_argument() {
         );
     }
     refused(
+        &["info", "builtin:cornell", "--light-units", "lumens"],
+        "--light-units",
+        "photometric, unitless",
+    );
+    refused(
         &["info", "builtin:cornell", "--env=1,nan,2"],
         "--env",
         "'nan' is not a finite",

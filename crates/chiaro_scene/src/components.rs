@@ -37,7 +37,8 @@ pub enum LightKind {
     Directional,
 }
 
-/// A punctual light: point, spot or directional, in glTF's units.
+/// A punctual light: point, spot or directional, in radiometric units (glTF import converts
+/// KHR_lights_punctual's photometric ones: see [`crate::LightUnits`]).
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
 #[require(crate::transform::Transform)]
 pub struct Light {
@@ -45,7 +46,8 @@ pub struct Light {
     pub kind: LightKind,
     /// Linear RGB colour; multiplies `intensity`.
     pub color: Vec3,
-    /// Candela for point and spot lights, lux for directional lights.
+    /// Radiant intensity in W/sr for point and spot lights, irradiance in W/m^2 for
+    /// directional lights.
     pub intensity: f32,
     /// Distance beyond which a point or spot light may be treated as zero (`None`: unlimited).
     pub range: Option<f32>,

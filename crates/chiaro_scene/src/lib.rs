@@ -56,7 +56,10 @@ pub use gltf::{
     load_gltf, load_gltf_with,
 };
 pub use info::SceneInfo;
-pub use load::{LoadOptions, load_scene, load_scene_with, scene_builder_for, scene_builder_with};
+pub use load::{
+    LUMENS_PER_WATT, LightUnits, LoadOptions, load_scene, load_scene_with, scene_builder_for,
+    scene_builder_with,
+};
 pub use material::{AlphaMode, Material, MaterialId, Materials, TextureRef};
 pub use memory::{MemoryEstimate, OverBudget};
 pub use mesh::{Mesh, MeshId, Meshes};

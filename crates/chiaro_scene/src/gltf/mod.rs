@@ -77,7 +77,14 @@ pub fn load_gltf_with(path: &Path, options: &LoadOptions) -> Result<SceneBuilder
         builder.add_material(material.clone());
     }
     let reader = accessor::AccessorReader { buffers: &buffers };
-    nodes::NodeImporter::new(&document, reader, &mut builder, &materials).import()?;
+    nodes::NodeImporter::new(
+        &document,
+        reader,
+        &mut builder,
+        &materials,
+        options.light_units,
+    )
+    .import()?;
     if builder.nodes().iter().all(|n| n.instance.is_none()) {
         builder.repair("scene", "has no triangles to render");
     }

@@ -11,6 +11,7 @@ use crate::error::{Fault, SceneError};
 use crate::gltf::accessor::AccessorReader;
 use crate::gltf::gpu_instancing::instance_transforms;
 use crate::gltf::primitives::{Converted, convert_primitive};
+use crate::load::LightUnits;
 use crate::material::{Material, MaterialId};
 use crate::mesh::MeshId;
 use crate::scene_builder::{Node, NodeIndex, SceneBuilder};
@@ -149,7 +150,12 @@ fn node_transform(
     }))
 }
 
-fn light(l: &gltf::khr_lights_punctual::Light, repairs: &mut Vec<String>) -> Result<Light, Fault> {
+/// A KHR_lights_punctual light, its intensity read in `units`.
+fn light(
+    l: &gltf::khr_lights_punctual::Light,
+    units: LightUnits,
+    repairs: &mut Vec<String>,
+) -> Result<Light, Fault> {
     let color = Vec3::from(l.color());
     let intensity = l.intensity();
     if !color.is_finite() || color.min_element() < 0.0 || !intensity.is_finite() || intensity < 0.0
@@ -199,7 +205,7 @@ fn light(l: &gltf::khr_lights_punctual::Light, repairs: &mut Vec<String>) -> Res
     Ok(Light {
         kind,
         color,
-        intensity,
+        intensity: units.radiometric(intensity),
         range,
     })
 }
@@ -262,6 +268,8 @@ pub(crate) struct NodeImporter<'a> {
     pub builder: &'a mut SceneBuilder,
     /// The file's materials, already in the builder with ids equal to their glTF index.
     pub materials: &'a [Material],
+    /// How light intensities are read.
+    pub light_units: LightUnits,
     meshes: HashMap<(usize, usize), Option<MeshId>>,
     default_material: Option<MaterialId>,
 }
@@ -272,12 +280,14 @@ impl<'a> NodeImporter<'a> {
         reader: AccessorReader<'a>,
         builder: &'a mut SceneBuilder,
         materials: &'a [Material],
+        light_units: LightUnits,
     ) -> Self {
         Self {
             document,
             reader,
             builder,
             materials,
+            light_units,
             meshes: HashMap::new(),
             default_material: None,
         }
@@ -367,7 +377,7 @@ impl<'a> NodeImporter<'a> {
             return Ok(None);
         };
         let light = match node.light() {
-            Some(l) => Some(light(&l, &mut repairs).map_err(|f| {
+            Some(l) => Some(light(&l, self.light_units, &mut repairs).map_err(|f| {
                 self.error(
                     format!("{name}, {}", element("light", l.index(), l.name())),
                     f,
