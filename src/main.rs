@@ -16,7 +16,7 @@ use chiaro::reference::{
     LightSampling, PathSettings, RenderSettings, render_world, write_exr, write_png,
 };
 use chiaro::scene::{Environment, LoadOptions, SceneInfo, load_scene_with};
-use chiaro::shading::tonemap::Tonemapper;
+use chiaro::shading::tonemap::{Tonemapper, exposure_from_ev};
 
 #[derive(Parser)]
 #[command(
@@ -138,6 +138,12 @@ enum Command {
         /// Seed of the random streams.
         #[arg(long, default_value_t = 0)]
         seed: u64,
+        /// Exposure of the PNG in stops: linear radiance times 2^STOPS before tonemapping
+        /// (-30..=30). The EXR stays linear radiance, unscaled, so that its error against
+        /// another image means the same at any exposure.
+        #[arg(long, default_value_t = 0.0, value_parser = args::exposure_stops,
+              allow_negative_numbers = true)]
+        exposure: f32,
         /// Worker threads, 1..=1024 (default: one per core).
         #[arg(long, value_parser = clap::value_parser!(u64).range(1..=args::MAX_THREADS as u64))]
         threads: Option<u64>,
@@ -251,6 +257,13 @@ struct FrameArgs {
     #[arg(long, default_value_t = chiaro::gpu::settings::DEFAULT_FIREFLY_CLAMP,
           value_parser = args::non_negative, allow_negative_numbers = true)]
     firefly_clamp: f32,
+    /// Exposure in stops: linear radiance times 2^STOPS before tonemapping (-30..=30), in the
+    /// PNG and the window. An EXR stays linear radiance, unscaled, so that its error against a
+    /// reference means the same at any exposure (the realtime firefly clamp, in units of
+    /// display white, follows the exposure).
+    #[arg(long, default_value_t = 0.0, value_parser = args::exposure_stops,
+          allow_negative_numbers = true)]
+    exposure: f32,
 }
 
 impl FrameArgs {
@@ -261,6 +274,7 @@ impl FrameArgs {
             bounces: self.bounces,
             light_sampling: self.light_sampling,
             firefly_clamp: self.firefly_clamp,
+            exposure: exposure_from_ev(self.exposure),
             ..FrameSettings::default()
         };
         settings.denoise.enabled = !self.no_denoise;
@@ -368,6 +382,7 @@ fn main() -> Result<()> {
             out,
             direct_only,
             seed,
+            exposure,
             threads,
             max_depth,
             light_sampling,
@@ -387,7 +402,7 @@ fn main() -> Result<()> {
                 threads: threads.map(|t| t as usize),
                 path,
             };
-            reference(&scene, &memory, &settings, &out)
+            reference(&scene, &memory, &settings, &out, exposure_from_ev(exposure))
         }
     }
 }
@@ -538,6 +553,7 @@ fn reference(
     memory: &MemoryArgs,
     settings: &RenderSettings,
     out: &Path,
+    exposure: f32,
 ) -> Result<()> {
     let (exr, png) = match out.extension().and_then(|e| e.to_str()) {
         Some("exr") => (out.to_path_buf(), out.with_extension("png")),
@@ -554,7 +570,7 @@ fn reference(
         output.height,
         &output.image,
         Tonemapper::PbrNeutral,
-        1.0,
+        exposure,
     )?;
     let half = exr.with_extension("half.exr");
     write_exr(&half, output.width, output.height, &output.halves[0])?;
