@@ -22,9 +22,9 @@ pub struct MeshInstance {
 /// The shape of a punctual light, after KHR_lights_punctual.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum LightKind {
-    /// Emits in all directions from the entity's origin; intensity in candela (lm/sr).
+    /// Emits in all directions from the entity's origin; intensity in W/sr.
     Point,
-    /// Emits down the entity's local -Z inside a cone; intensity in candela. Full intensity
+    /// Emits down the entity's local -Z inside a cone; intensity in W/sr. Full intensity
     /// inside `inner_cone_angle`, smooth falloff to zero at `outer_cone_angle` (radians from the
     /// axis, 0 <= inner < outer <= pi/2).
     Spot {
@@ -33,7 +33,7 @@ pub enum LightKind {
         /// Angle from the axis where the light reaches zero, radians.
         outer_cone_angle: f32,
     },
-    /// Parallel light travelling down the entity's local -Z; intensity in lux (lm/m^2).
+    /// Parallel light travelling down the entity's local -Z; intensity (irradiance) in W/m^2.
     Directional,
 }
 
