@@ -76,8 +76,8 @@ impl MemoryArgs {
 #[derive(Subcommand)]
 enum Command {
     /// Print what a scene holds: meshes, triangles, instances, materials and their texture
-    /// slots, lights by kind, emissive triangles, camera, environment, bounds, and what import
-    /// repaired.
+    /// slots, lights by kind, skinned instances and their skins' joints, emissive triangles,
+    /// camera, environment, bounds, and what import repaired.
     Info {
         #[command(flatten)]
         scene: SceneArgs,

@@ -19,6 +19,16 @@ pub struct MeshInstance {
     pub material: MaterialId,
 }
 
+/// Marks a mesh instance posed by a glTF skin at load: its mesh is its own, the vertices moved
+/// once by the joints (the pose the file's node transforms describe; no animation is played).
+#[derive(Component, Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Skinned {
+    /// The skin's index in its glTF file.
+    pub skin: u32,
+    /// How many joints the skin has.
+    pub joints: u32,
+}
+
 /// The shape of a punctual light, after KHR_lights_punctual.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum LightKind {

@@ -47,7 +47,7 @@ pub mod transform;
 pub use asset_store::{AssetId, AssetStore};
 pub use bevy_ecs::name::Name;
 pub use bounds::Aabb;
-pub use components::{ActiveCamera, Camera, Light, LightKind, MeshInstance, Projection};
+pub use components::{ActiveCamera, Camera, Light, LightKind, MeshInstance, Projection, Skinned};
 pub use environment::{Environment, EnvironmentSource, EquirectImage};
 pub use error::{Fault, ImportReport, Repair, SceneError};
 pub use features::{EnvironmentFeature, SceneFeatureStats, SceneFeatures, update_scene_features};

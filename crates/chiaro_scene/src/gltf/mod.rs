@@ -3,7 +3,7 @@
 //! Read: the default scene (or the first), its node hierarchy, triangle primitives (strips and
 //! fans converted, points and lines skipped), materials with KHR_materials_emissive_strength,
 //! KHR_materials_ior and KHR_texture_transform, KHR_lights_punctual, EXT_mesh_gpu_instancing,
-//! cameras. Every byte range is
+//! cameras, skins (each skinned mesh instance posed once at load, see `skins`). Every byte range is
 //! checked before it is read; faults are errors naming the file and the element, or repairs
 //! reported with what was dropped and how many (see [`crate::mesh_repair`]).
 
@@ -14,6 +14,7 @@ mod integers;
 mod materials;
 mod nodes;
 mod primitives;
+mod skins;
 mod sources;
 
 use std::path::Path;
