@@ -67,6 +67,50 @@ pub fn env_strength(text: &str) -> Result<f32, String> {
     }
 }
 
+/// Most stops `--exposure` takes either way (2^30 is far past any display's range).
+pub const MAX_EXPOSURE_STOPS: f32 = 30.0;
+
+/// `--exposure`: stops, a finite number in `-MAX_EXPOSURE_STOPS..=MAX_EXPOSURE_STOPS`.
+pub fn exposure_stops(text: &str) -> Result<f32, String> {
+    match finite(text)? {
+        v if v.abs() <= MAX_EXPOSURE_STOPS => Ok(v),
+        _ => Err(format!(
+            "{text} is outside -{MAX_EXPOSURE_STOPS}..={MAX_EXPOSURE_STOPS} stops"
+        )),
+    }
+}
+
+/// `--light-units`: how glTF punctual lights' intensities are read (the values are described
+/// in the option's help, which stays on one line that way).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum LightUnitsArg {
+    // chiaro::scene::LightUnits::Photometric.
+    Photometric,
+    // chiaro::scene::LightUnits::Unitless.
+    Unitless,
+}
+
+/// The `--light-units` option of every command that loads a scene.
+#[derive(Clone, Copy, clap::Args)]
+pub struct LightUnitsArgs {
+    /// How a glTF's punctual light intensities are read: photometric, candela (point, spot)
+    /// and lux (directional) divided by 683 lm/W into W/sr and W/m^2, as Blender's glTF
+    /// importer reads them; or unitless, the numbers as W/sr and W/m^2 (683 times brighter).
+    /// Built-in scenes are not affected.
+    #[arg(long, value_enum, default_value_t = LightUnitsArg::Photometric)]
+    pub light_units: LightUnitsArg,
+}
+
+impl LightUnitsArgs {
+    /// The loader's setting.
+    pub fn units(self) -> chiaro::scene::LightUnits {
+        match self.light_units {
+            LightUnitsArg::Photometric => chiaro::scene::LightUnits::Photometric,
+            LightUnitsArg::Unitless => chiaro::scene::LightUnits::Unitless,
+        }
+    }
+}
+
 /// What `--env` names: a constant colour or an image file.
 #[derive(Clone, Debug, PartialEq)]
 pub enum EnvArg {
@@ -117,6 +161,9 @@ mod tests {
         assert!(positive("0").unwrap_err().contains("not above 0"));
         assert!(env_strength("1e10").unwrap_err().contains("above"));
         assert_eq!(env_strength("2.5"), Ok(2.5));
+        assert_eq!(exposure_stops("-1.5"), Ok(-1.5));
+        assert!(exposure_stops("31").unwrap_err().contains("outside"));
+        assert!(exposure_stops("nan").is_err());
     }
 
     #[test]

@@ -22,6 +22,8 @@ pub struct BenchArgs {
     /// An equirectangular .hdr or .exr environment for the scenes given with --scenes.
     #[arg(long)]
     env: Option<PathBuf>,
+    #[command(flatten)]
+    light_units: crate::args::LightUnitsArgs,
     /// Image size, WxH.
     #[arg(long, default_value = "256x256", value_parser = crate::args::size)]
     size: (u32, u32),
@@ -86,6 +88,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             .map(|scene| BenchScene {
                 scene: scene.clone(),
                 env: args.env.clone(),
+                light_units: args.light_units.units(),
             })
             .collect()
     };

@@ -6,7 +6,7 @@ use anyhow::Result;
 use clap::Args;
 
 use chiaro::eval::{CompareSettings, HdrImage, compare, write_heatmap};
-use chiaro::shading::tonemap::Tonemapper;
+use chiaro::shading::tonemap::{Tonemapper, exposure_from_ev};
 
 /// What `chiaro compare` takes.
 #[derive(Args)]
@@ -26,8 +26,11 @@ pub struct CompareArgs {
     /// neutral, clamp); 8-bit inputs are used as stored.
     #[arg(long, default_value = "neutral")]
     tonemapper: Tonemapper,
-    /// Exposure before tonemapping: a finite multiplier above 0.
-    #[arg(long, default_value_t = 1.0, value_parser = crate::args::positive, allow_negative_numbers = true)]
+    /// Exposure in stops of the tonemapped images PSNR and FLIP read: linear radiance times
+    /// 2^STOPS before tonemapping (-30..=30). relMSE and SMAPE read the linear images as they
+    /// are, at any exposure.
+    #[arg(long, default_value_t = 0.0, value_parser = crate::args::exposure_stops,
+          allow_negative_numbers = true)]
     exposure: f32,
 }
 
@@ -38,7 +41,7 @@ pub fn run(args: &CompareArgs) -> Result<()> {
     let settings = CompareSettings {
         rel_mse_epsilon: args.epsilon,
         tonemapper: args.tonemapper,
-        exposure: args.exposure,
+        exposure: exposure_from_ev(args.exposure),
         ..CompareSettings::default()
     };
     let comparison = compare(&test, &reference, &settings)?;

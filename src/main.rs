@@ -16,7 +16,7 @@ use chiaro::reference::{
     LightSampling, PathSettings, RenderSettings, render_world, write_exr, write_png,
 };
 use chiaro::scene::{Environment, LoadOptions, SceneInfo, load_scene_with};
-use chiaro::shading::tonemap::Tonemapper;
+use chiaro::shading::tonemap::{Tonemapper, exposure_from_ev};
 
 #[derive(Parser)]
 #[command(
@@ -46,6 +46,8 @@ struct SceneArgs {
     /// `..` leaving the folder), which are refused by default.
     #[arg(long)]
     allow_outside_files: bool,
+    #[command(flatten)]
+    light_units: args::LightUnitsArgs,
 }
 
 /// The memory a render may take.
@@ -74,8 +76,8 @@ impl MemoryArgs {
 #[derive(Subcommand)]
 enum Command {
     /// Print what a scene holds: meshes, triangles, instances, materials and their texture
-    /// slots, lights by kind, emissive triangles, camera, environment, bounds, and what import
-    /// repaired.
+    /// slots, lights by kind, skinned instances and their skins' joints, emissive triangles,
+    /// camera, environment, bounds, and what import repaired.
     Info {
         #[command(flatten)]
         scene: SceneArgs,
@@ -95,6 +97,8 @@ enum Command {
         /// Let a glTF read files outside its own folder (refused by default).
         #[arg(long)]
         allow_outside_files: bool,
+        #[command(flatten)]
+        light_units: args::LightUnitsArgs,
         #[command(flatten)]
         memory: MemoryArgs,
         /// Image size, WxH.
@@ -134,6 +138,12 @@ enum Command {
         /// Seed of the random streams.
         #[arg(long, default_value_t = 0)]
         seed: u64,
+        /// Exposure of the PNG in stops: linear radiance times 2^STOPS before tonemapping
+        /// (-30..=30). The EXR stays linear radiance, unscaled, so that its error against
+        /// another image means the same at any exposure.
+        #[arg(long, default_value_t = 0.0, value_parser = args::exposure_stops,
+              allow_negative_numbers = true)]
+        exposure: f32,
         /// Worker threads, 1..=1024 (default: one per core).
         #[arg(long, value_parser = clap::value_parser!(u64).range(1..=args::MAX_THREADS as u64))]
         threads: Option<u64>,
@@ -171,6 +181,8 @@ enum Command {
         /// Let a glTF read files outside its own folder (refused by default).
         #[arg(long)]
         allow_outside_files: bool,
+        #[command(flatten)]
+        light_units: args::LightUnitsArgs,
         #[command(flatten)]
         memory: MemoryArgs,
         /// Window size, WxH.
@@ -245,6 +257,13 @@ struct FrameArgs {
     #[arg(long, default_value_t = chiaro::gpu::settings::DEFAULT_FIREFLY_CLAMP,
           value_parser = args::non_negative, allow_negative_numbers = true)]
     firefly_clamp: f32,
+    /// Exposure in stops: linear radiance times 2^STOPS before tonemapping (-30..=30), in the
+    /// PNG and the window. An EXR stays linear radiance, unscaled, so that its error against a
+    /// reference means the same at any exposure (the realtime firefly clamp, in units of
+    /// display white, follows the exposure).
+    #[arg(long, default_value_t = 0.0, value_parser = args::exposure_stops,
+          allow_negative_numbers = true)]
+    exposure: f32,
 }
 
 impl FrameArgs {
@@ -255,6 +274,7 @@ impl FrameArgs {
             bounces: self.bounces,
             light_sampling: self.light_sampling,
             firefly_clamp: self.firefly_clamp,
+            exposure: exposure_from_ev(self.exposure),
             ..FrameSettings::default()
         };
         settings.denoise.enabled = !self.no_denoise;
@@ -306,6 +326,7 @@ fn main() -> Result<()> {
             env,
             env_strength,
             allow_outside_files,
+            light_units,
             memory,
             size,
             frames,
@@ -318,6 +339,7 @@ fn main() -> Result<()> {
                 env,
                 env_strength,
                 allow_outside_files,
+                light_units,
             };
             render(&scene, &memory, size, frames, &out, frame.settings(), seed)
         }
@@ -328,6 +350,7 @@ fn main() -> Result<()> {
             env,
             env_strength,
             allow_outside_files,
+            light_units,
             memory,
             size,
             script,
@@ -340,6 +363,7 @@ fn main() -> Result<()> {
                 env,
                 env_strength,
                 allow_outside_files,
+                light_units,
             };
             view(
                 &scene,
@@ -358,6 +382,7 @@ fn main() -> Result<()> {
             out,
             direct_only,
             seed,
+            exposure,
             threads,
             max_depth,
             light_sampling,
@@ -377,7 +402,7 @@ fn main() -> Result<()> {
                 threads: threads.map(|t| t as usize),
                 path,
             };
-            reference(&scene, &memory, &settings, &out)
+            reference(&scene, &memory, &settings, &out, exposure_from_ev(exposure))
         }
     }
 }
@@ -387,6 +412,7 @@ fn load(args: &SceneArgs) -> Result<World> {
     let mut world = World::new();
     let options = LoadOptions {
         allow_outside_files: args.allow_outside_files,
+        light_units: args.light_units.units(),
     };
     load_scene_with(&mut world, &args.scene, &options)?;
     if let Some(env) = &args.env {
@@ -527,6 +553,7 @@ fn reference(
     memory: &MemoryArgs,
     settings: &RenderSettings,
     out: &Path,
+    exposure: f32,
 ) -> Result<()> {
     let (exr, png) = match out.extension().and_then(|e| e.to_str()) {
         Some("exr") => (out.to_path_buf(), out.with_extension("png")),
@@ -543,7 +570,7 @@ fn reference(
         output.height,
         &output.image,
         Tonemapper::PbrNeutral,
-        1.0,
+        exposure,
     )?;
     let half = exr.with_extension("half.exr");
     write_exr(&half, output.width, output.height, &output.halves[0])?;

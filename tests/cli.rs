@@ -148,3 +148,75 @@ fn a_closed_output_pipe_ends_the_program_without_a_panic() {
         "nothing was written, yet it exited 0"
     );
 }
+
+/// `--exposure STOPS` scales what the tonemapper reads by 2^STOPS: the reference's PNG at +1
+/// stop is the tonemapped image of twice the linear radiance, while its EXR (linear radiance)
+/// is the one of exposure 0, bit for bit; `compare --exposure` moves PSNR, not relMSE.
+#[test]
+fn exposure_in_stops_brightens_the_png_not_the_exr() {
+    use chiaro::shading::color::linear_to_srgb;
+    use chiaro::shading::tonemap::Tonemapper;
+    let dir = std::env::temp_dir().join(format!("chiaro-cli-exposure-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let render = |stops: &str| {
+        let exr = dir.join(format!("cornell{stops}.exr"));
+        let out = chiaro(&[
+            "reference",
+            "builtin:cornell",
+            "--size",
+            "12x12",
+            "--spp",
+            "2",
+            "--exposure",
+            stops,
+            "--out",
+            exr.to_str().unwrap(),
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let (_, _, linear) = chiaro::reference::read_exr(&exr).unwrap();
+        let png = image::open(exr.with_extension("png")).unwrap().into_rgb8();
+        (exr, linear, png.into_raw())
+    };
+    let (plain_exr, plain, plain_png) = render("0");
+    let (_, bright, bright_png) = render("1");
+    assert!(plain == bright, "the exposure changed the EXR");
+    let expected: Vec<u8> = plain
+        .iter()
+        .flat_map(|p| Tonemapper::PbrNeutral.apply(*p * 2.0, 1.0).to_array())
+        .map(|c| (linear_to_srgb(c) * 255.0 + 0.5) as u8)
+        .collect();
+    assert_eq!(bright_png, expected, "+1 stop is not twice the radiance");
+    assert_ne!(bright_png, plain_png, "+1 stop changed nothing");
+
+    let measure = |stops: &str| {
+        let half = plain_exr.with_extension("half.exr");
+        let args = [
+            "compare",
+            plain_exr.to_str().unwrap(),
+            half.to_str().unwrap(),
+            "--exposure",
+            stops,
+        ];
+        let out = chiaro(&args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let text = String::from_utf8(out.stdout).unwrap();
+        let value = |name: &str| {
+            text.lines()
+                .find_map(|l| l.strip_prefix(name)?.strip_prefix(' ')?.parse::<f64>().ok())
+                .unwrap_or_else(|| panic!("no {name} in {text}"))
+        };
+        (value("relmse"), value("psnr_db"))
+    };
+    let (rel_plain, psnr_plain) = measure("0");
+    let (rel_dark, psnr_dark) = measure("-3");
+    assert_eq!(rel_plain, rel_dark, "relMSE moved with the exposure");
+    assert_ne!(psnr_plain, psnr_dark, "PSNR ignored the exposure");
+}

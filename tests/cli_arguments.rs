@@ -60,13 +60,23 @@ fn numbers_that_mean_nothing_are_refused_by_argument() {
         "--memory-limit",
         "not a size",
     );
-    for bad in ["nan", "inf", "0"] {
+    for bad in ["nan", "inf", "31", "-31"] {
         refused(
             &["compare", "a.exr", "b.exr", "--exposure", bad],
             "--exposure",
             bad,
         );
     }
+    refused(
+        &["render", "--exposure", "40"],
+        "--exposure",
+        "outside -30..=30",
+    );
+    refused(
+        &["info", "builtin:cornell", "--light-units", "lumens"],
+        "--light-units",
+        "photometric, unitless",
+    );
     refused(
         &["info", "builtin:cornell", "--env=1,nan,2"],
         "--env",

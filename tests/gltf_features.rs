@@ -12,8 +12,9 @@ use std::path::PathBuf;
 use base64::Engine;
 use bevy_ecs::world::World;
 use chiaro::scene::{
-    ActiveCamera, AutoCamera, Camera, Environment, EnvironmentSource, Light, LightKind, MaterialId,
-    Materials, MeshId, Meshes, Name, Projection, SceneInfo, Textures, load_scene,
+    ActiveCamera, AutoCamera, Camera, Environment, EnvironmentSource, Light, LightKind, LightUnits,
+    LoadOptions, MaterialId, Materials, MeshId, Meshes, Name, Projection, SceneInfo, Textures,
+    load_scene, load_scene_with,
 };
 use glam::{Vec2, Vec3};
 use serde_json::{Value, json};
@@ -134,6 +135,39 @@ fn entity_named<'w, C: bevy_ecs::component::Component>(world: &'w mut World, nam
         .unwrap()
 }
 
+/// KHR_lights_punctual's candela and lux become W/sr and W/m^2 at 683 lm/W by default, as
+/// Blender's glTF importer reads them; `LightUnits::Unitless` keeps the numbers. A 1000 W
+/// Blender point light is exported as 1000 / (4 pi) * 683 cd and must come back as a radiant
+/// intensity of 1000 / (4 pi) W/sr, what Blender's point light of 1000 W emits.
+#[test]
+fn light_intensities_are_photometric_by_default_and_unitless_when_asked() {
+    let mut json = scene_json();
+    let blender_watts = 1000.0f32;
+    let candela = blender_watts / (4.0 * std::f32::consts::PI) * 683.0;
+    json["extensions"]["KHR_lights_punctual"]["lights"][0]["intensity"] = json!(candela);
+    let path = write("light_units.gltf", &json);
+    let read = |units: LightUnits| {
+        let mut world = World::new();
+        let options = LoadOptions {
+            light_units: units,
+            ..LoadOptions::default()
+        };
+        load_scene_with(&mut world, path.to_str().unwrap(), &options).unwrap();
+        let bulb = entity_named::<Light>(&mut world, "bulb").intensity;
+        let spot = entity_named::<Light>(&mut world, "spot").intensity;
+        let sun = entity_named::<Light>(&mut world, "sun").intensity;
+        (bulb, spot, sun)
+    };
+    let (bulb, spot, sun) = read(LightUnits::default());
+    let watts_per_sr = blender_watts / (4.0 * std::f32::consts::PI);
+    assert!(
+        (bulb - watts_per_sr).abs() <= 1e-5 * watts_per_sr,
+        "{bulb} W/sr from {candela} cd, not {watts_per_sr}"
+    );
+    assert_eq!((spot, sun), (10.0 / 683.0, 3.0 / 683.0));
+    assert_eq!(read(LightUnits::Unitless), (candela, 10.0, 3.0));
+}
+
 #[test]
 fn lights_camera_and_material_extensions_are_read() {
     let path = write("features.gltf", &scene_json());
@@ -150,7 +184,7 @@ fn lights_camera_and_material_extensions_are_read() {
     assert_eq!(bulb.kind, LightKind::Point);
     assert_eq!(
         (bulb.color, bulb.intensity, bulb.range),
-        (Vec3::new(1.0, 0.5, 0.25), 20.0, Some(5.0))
+        (Vec3::new(1.0, 0.5, 0.25), 20.0 / 683.0, Some(5.0))
     );
     let spot = *entity_named::<Light>(&mut world, "spot");
     assert_eq!(

@@ -62,6 +62,7 @@ fn uris_leaving_the_folder_are_refused_unless_allowed() {
         );
         let allowed = LoadOptions {
             allow_outside_files: true,
+            ..LoadOptions::default()
         };
         load_scene_with(&mut World::new(), &path, &allowed)
             .unwrap_or_else(|e| panic!("{uri} allowed: {e}"));

@@ -82,7 +82,7 @@ fn light_punctual(intensity: vec3<f32>, distance: f32, range: f32) -> vec4<f32> 
     return vec4<f32>(intensity * (window / (d * d)), 1.0);
 }
 
-// A point light of `intensity` (candela) at `position`, seen from p.
+// A point light of `intensity` (W/sr) at `position`, seen from p.
 fn sample_point(position: vec3<f32>, intensity: vec3<f32>, range: f32, p: vec3<f32>) -> LightSample {
     let toward = light_toward(p, position);
     if toward.w == 0.0 {
@@ -121,7 +121,7 @@ fn sample_spot(
 }
 
 // A directional light whose light travels along `travel_direction` (any length), of
-// `illuminance` (lux). A zero or non-finite direction: radiance 0, wi = +Y.
+// `illuminance` (W/m^2). A zero or non-finite direction: radiance 0, wi = +Y.
 fn sample_directional(travel_direction: vec3<f32>, illuminance: vec3<f32>) -> LightSample {
     // glam's try_normalize: the reciprocal length must be finite and positive.
     let reciprocal = 1.0 / length(travel_direction);

@@ -148,7 +148,10 @@ pub struct FrameSettings {
     pub denoise: DenoiseSettings,
     /// Tonemapping operator of the LDR image.
     pub tonemapper: Tonemapper,
-    /// Exposure multiplier before tonemapping.
+    /// Multiplier of the linear radiance before tonemapping: 2^stops for an exposure in stops
+    /// ([`chiaro_shading::tonemap::exposure_from_ev`]). It changes the LDR image only; the HDR
+    /// image stays linear radiance, unscaled (the realtime firefly clamp, in units of display
+    /// white, follows it).
     pub exposure: f32,
     /// The feature set the scene-reading passes are compiled for: by default what the scene
     /// uses, so a scene pays nothing for features it lacks.

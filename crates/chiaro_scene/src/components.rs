@@ -19,12 +19,22 @@ pub struct MeshInstance {
     pub material: MaterialId,
 }
 
+/// Marks a mesh instance posed by a glTF skin at load: its mesh is its own, the vertices moved
+/// once by the joints (the pose the file's node transforms describe; no animation is played).
+#[derive(Component, Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Skinned {
+    /// The skin's index in its glTF file.
+    pub skin: u32,
+    /// How many joints the skin has.
+    pub joints: u32,
+}
+
 /// The shape of a punctual light, after KHR_lights_punctual.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum LightKind {
-    /// Emits in all directions from the entity's origin; intensity in candela (lm/sr).
+    /// Emits in all directions from the entity's origin; intensity in W/sr.
     Point,
-    /// Emits down the entity's local -Z inside a cone; intensity in candela. Full intensity
+    /// Emits down the entity's local -Z inside a cone; intensity in W/sr. Full intensity
     /// inside `inner_cone_angle`, smooth falloff to zero at `outer_cone_angle` (radians from the
     /// axis, 0 <= inner < outer <= pi/2).
     Spot {
@@ -33,11 +43,12 @@ pub enum LightKind {
         /// Angle from the axis where the light reaches zero, radians.
         outer_cone_angle: f32,
     },
-    /// Parallel light travelling down the entity's local -Z; intensity in lux (lm/m^2).
+    /// Parallel light travelling down the entity's local -Z; intensity (irradiance) in W/m^2.
     Directional,
 }
 
-/// A punctual light: point, spot or directional, in glTF's units.
+/// A punctual light: point, spot or directional, in radiometric units (glTF import converts
+/// KHR_lights_punctual's photometric ones: see [`crate::LightUnits`]).
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
 #[require(crate::transform::Transform)]
 pub struct Light {
@@ -45,7 +56,8 @@ pub struct Light {
     pub kind: LightKind,
     /// Linear RGB colour; multiplies `intensity`.
     pub color: Vec3,
-    /// Candela for point and spot lights, lux for directional lights.
+    /// Radiant intensity in W/sr for point and spot lights, irradiance in W/m^2 for
+    /// directional lights.
     pub intensity: f32,
     /// Distance beyond which a point or spot light may be treated as zero (`None`: unlimited).
     pub range: Option<f32>,

@@ -74,6 +74,9 @@ pub enum Fault {
     /// A light with unusable parameters.
     #[error("{0}")]
     Light(String),
+    /// A skin, or a skinned primitive's joints and weights, that cannot pose the mesh.
+    #[error("{0}")]
+    Skin(String),
     /// An image that could not be decoded or is out of bounds.
     #[error("{0}")]
     Image(String),

@@ -9,7 +9,9 @@ use bevy_ecs::system::RunSystemOnce;
 use glam::Vec3;
 
 use crate::bounds::Aabb;
-use crate::components::{ActiveCamera, Camera, Light, LightKind, MeshInstance, Projection};
+use crate::components::{
+    ActiveCamera, Camera, Light, LightKind, MeshInstance, Projection, Skinned,
+};
 use crate::environment::{Environment, EnvironmentSource};
 use crate::error::{ImportReport, Repair};
 use crate::features::SceneFeatures;
@@ -64,6 +66,10 @@ pub struct SceneInfo {
     pub textures: usize,
     /// Punctual lights by kind: point, spot, directional.
     pub lights: BTreeMap<&'static str, usize>,
+    /// Mesh instances posed by a skin at load ([`Skinned`]).
+    pub skinned_instances: usize,
+    /// The skins posing them: each one's joint count, by skin index.
+    pub skins: BTreeMap<u32, u32>,
     /// Triangles over all instances whose material emits.
     pub emissive_triangles: usize,
     /// The active camera.
@@ -129,6 +135,15 @@ impl SceneInfo {
             };
             *lights.entry(kind).or_default() += 1;
         }
+        let mut skinned_instances = 0;
+        let mut skins = BTreeMap::new();
+        for skinned in world
+            .query_filtered::<&Skinned, With<MeshInstance>>()
+            .iter(world)
+        {
+            skinned_instances += 1;
+            skins.insert(skinned.skin, skinned.joints);
+        }
         let nodes = world.query::<&Transform>().iter(world).count();
         let camera = world.get_resource::<ActiveCamera>().and_then(|active| {
             let e = world.get_entity(active.0).ok()?;
@@ -191,6 +206,8 @@ impl SceneInfo {
             materials: material_summaries,
             textures,
             lights,
+            skinned_instances,
+            skins,
             emissive_triangles,
             camera,
             environment,
@@ -231,6 +248,22 @@ impl fmt::Display for SceneInfo {
             .map(|(k, n)| format!("{n} {k}"))
             .collect();
         writeln!(f, "lights: {}", lights.join(", "))?;
+        if self.skinned_instances == 0 {
+            writeln!(f, "skinned: none")?;
+        } else {
+            let joints: Vec<String> = self.skins.values().map(u32::to_string).collect();
+            let plural = |n: usize, what: &str| match n {
+                1 => format!("1 {what}"),
+                n => format!("{n} {what}s"),
+            };
+            writeln!(
+                f,
+                "skinned: {} posed at load by {} (joints: {})",
+                plural(self.skinned_instances, "instance"),
+                plural(self.skins.len(), "skin"),
+                joints.join(", ")
+            )?;
+        }
         writeln!(f, "emissive triangles: {}", self.emissive_triangles)?;
         match &self.camera {
             Some(c) => {

@@ -47,7 +47,7 @@ pub mod transform;
 pub use asset_store::{AssetId, AssetStore};
 pub use bevy_ecs::name::Name;
 pub use bounds::Aabb;
-pub use components::{ActiveCamera, Camera, Light, LightKind, MeshInstance, Projection};
+pub use components::{ActiveCamera, Camera, Light, LightKind, MeshInstance, Projection, Skinned};
 pub use environment::{Environment, EnvironmentSource, EquirectImage};
 pub use error::{Fault, ImportReport, Repair, SceneError};
 pub use features::{EnvironmentFeature, SceneFeatureStats, SceneFeatures, update_scene_features};
@@ -56,7 +56,10 @@ pub use gltf::{
     load_gltf, load_gltf_with,
 };
 pub use info::SceneInfo;
-pub use load::{LoadOptions, load_scene, load_scene_with, scene_builder_for, scene_builder_with};
+pub use load::{
+    LUMENS_PER_WATT, LightUnits, LoadOptions, load_scene, load_scene_with, scene_builder_for,
+    scene_builder_with,
+};
 pub use material::{AlphaMode, Material, MaterialId, Materials, TextureRef};
 pub use memory::{MemoryEstimate, OverBudget};
 pub use mesh::{Mesh, MeshId, Meshes};

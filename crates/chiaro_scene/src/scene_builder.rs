@@ -8,7 +8,7 @@ use bevy_ecs::prelude::*;
 use glam::Affine3A;
 
 use crate::bounds::Aabb;
-use crate::components::{ActiveCamera, Camera, Light, MeshInstance};
+use crate::components::{ActiveCamera, Camera, Light, MeshInstance, Skinned};
 use crate::environment::Environment;
 use crate::error::{ImportReport, Repair, SceneError};
 use crate::framing::frame_bounds;
@@ -47,6 +47,8 @@ pub struct Node {
     pub camera: Option<Camera>,
     /// The glTF node it came from.
     pub source_node: Option<u32>,
+    /// Set when its mesh instance was posed by a skin at load.
+    pub skinned: Option<Skinned>,
 }
 
 /// A validated scene waiting to be spawned.
@@ -179,6 +181,17 @@ impl SceneBuilder {
         &self.nodes
     }
 
+    /// World matrix of node `node`, through its parents.
+    pub fn world_matrix(&self, node: NodeIndex) -> Affine3A {
+        let mut world = Affine3A::IDENTITY;
+        let mut at = Some(node);
+        while let Some(n) = at {
+            world = self.nodes[n].transform.to_affine() * world;
+            at = self.nodes[n].parent;
+        }
+        world
+    }
+
     /// World matrix of every node.
     pub fn world_matrices(&self) -> Vec<Affine3A> {
         let mut world: Vec<Affine3A> = Vec::with_capacity(self.nodes.len());
@@ -265,6 +278,9 @@ impl SceneBuilder {
             }
             if let Some(index) = node.source_node {
                 e.insert(SourceNode(index));
+            }
+            if let Some(skinned) = node.skinned {
+                e.insert(skinned);
             }
             entities.push(e.id());
         }

@@ -107,7 +107,7 @@ fn punctual(intensity: Vec3, distance: f32, range: Option<f32>) -> Option<Vec3> 
     Some(intensity * (window / (d * d)))
 }
 
-/// A point light of `intensity` (candela, linear RGB) at `position`, seen from `p`: radiance =
+/// A point light of `intensity` (W/sr, linear RGB) at `position`, seen from `p`: radiance =
 /// intensity window / distance^2, pdf 1, delta. None when `p` is at the light or out of range.
 pub fn sample_point(
     position: Vec3,
@@ -155,7 +155,7 @@ pub fn sample_spot(
 }
 
 /// A directional light whose light travels along `travel_direction` (any length), of
-/// `illuminance` (lux, linear RGB): wi = -travel_direction normalized, infinitely far, delta.
+/// `illuminance` (W/m^2, linear RGB): wi = -travel_direction normalized, infinitely far, delta.
 /// A zero or non-finite direction has no defined source: radiance 0, wi = +Y.
 pub fn sample_directional(travel_direction: Vec3, illuminance: Vec3) -> LightSample {
     let (wi, radiance) = match (-travel_direction).try_normalize() {

@@ -5,7 +5,7 @@ use chiaro_gpu::denoiser::MAX_ATROUS_ITERATIONS;
 use chiaro_gpu::settings::{MAX_BOUNCES, MAX_SPP};
 use chiaro_gpu::timing::PassTimes;
 use chiaro_gpu::{FrameSettings, RenderMode};
-use chiaro_shading::tonemap::Tonemapper;
+use chiaro_shading::tonemap::{Tonemapper, exposure_from_ev};
 
 use crate::debug_view::DebugView;
 
@@ -93,11 +93,13 @@ pub fn settings(
         );
     });
     ui.separator();
-    ui.add(
-        egui::Slider::new(&mut settings.exposure, 0.01..=100.0)
-            .logarithmic(true)
-            .text("exposure"),
-    );
+    let mut stops = settings.exposure.log2();
+    if ui
+        .add(egui::Slider::new(&mut stops, -10.0..=10.0).text("exposure (stops)"))
+        .changed()
+    {
+        settings.exposure = exposure_from_ev(stops);
+    }
     egui::ComboBox::from_label("tonemapper")
         .selected_text(settings.tonemapper.name())
         .show_ui(ui, |ui| {

@@ -22,7 +22,7 @@ use chiaro_gpu::settings::LightSampling;
 use chiaro_gpu::{
     FrameSettings, PipelineChoice, RenderError, RenderMode, RenderSettings, Renderer,
 };
-use chiaro_scene::{Environment, load_scene};
+use chiaro_scene::{Environment, LightUnits, LoadOptions, load_scene_with};
 use thiserror::Error;
 
 use crate::{CompareSettings, EvalError, HdrImage, compare};
@@ -84,6 +84,8 @@ pub struct BenchScene {
     pub scene: String,
     /// An equirectangular .hdr or .exr environment replacing the scene's.
     pub env: Option<PathBuf>,
+    /// How a glTF's punctual light intensities are read.
+    pub light_units: LightUnits,
 }
 
 impl BenchScene {
@@ -92,6 +94,7 @@ impl BenchScene {
         Self {
             scene: scene.to_owned(),
             env: None,
+            light_units: LightUnits::default(),
         }
     }
 
@@ -114,7 +117,11 @@ impl BenchScene {
             message,
         };
         let mut world = World::new();
-        load_scene(&mut world, &self.scene).map_err(|e| fault(e.to_string()))?;
+        let options = LoadOptions {
+            light_units: self.light_units,
+            ..LoadOptions::default()
+        };
+        load_scene_with(&mut world, &self.scene, &options).map_err(|e| fault(e.to_string()))?;
         if let Some(path) = &self.env {
             let (environment, _) =
                 Environment::from_file(path, 1.0).map_err(|e| fault(e.to_string()))?;
@@ -149,6 +156,7 @@ pub fn default_scenes(shared_scenes: &Path) -> Vec<BenchScene> {
             .map(|p| BenchScene {
                 scene: p.display().to_string(),
                 env: env.clone(),
+                light_units: LightUnits::default(),
             }),
     );
     scenes

@@ -82,7 +82,8 @@ fn file_stamp(path: &Path) -> String {
 /// What decides the reference's pixels: the scene (its name; its file's size and content hash
 /// when it is a file; and `held`, the summary of what the loaded scene holds: meshes,
 /// triangles, materials, lights, camera, bounds, environment, so that a scene that changed
-/// under the same name, a built-in one included, is rendered again), its environment file (by
+/// under the same name, a built-in one included, is rendered again), how its light intensities
+/// are read, its environment file (by
 /// path, size and content hash), the image size, the sample count, the seed, the path
 /// settings, the chiaro version, and `drawn_by`: which renderer (for the GPU, on which
 /// adapter).
@@ -95,8 +96,10 @@ fn cache_key(
     let file = (!scene.scene.starts_with("builtin:")).then(|| file_stamp(Path::new(&scene.scene)));
     let env = scene.env.as_deref().map(file_stamp);
     format!(
-        "{} {file:?} {held:?} {env:?} {width}x{height} {spp} {REFERENCE_SEED} {:?} {} {drawn_by}",
+        "{} {file:?} {held:?} {:?} {env:?} {width}x{height} {spp} {REFERENCE_SEED} {:?} {} \
+         {drawn_by}",
         scene.scene,
+        scene.light_units,
         PathSettings::default(),
         env!("CARGO_PKG_VERSION")
     )
@@ -201,6 +204,7 @@ fn gpu_half(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use chiaro_scene::LightUnits;
 
     #[test]
     fn the_key_changes_with_everything_that_decides_the_pixels() {
@@ -225,6 +229,11 @@ mod tests {
             ..scene.clone()
         };
         assert_ne!(base, cache_key(&lit, &held, (64, 64, 16), "cpu"));
+        let unitless = BenchScene {
+            light_units: LightUnits::Unitless,
+            ..scene.clone()
+        };
+        assert_ne!(base, cache_key(&unitless, &held, (64, 64, 16), "cpu"));
         assert_eq!(base, cache_key(&scene, &held, (64, 64, 16), "cpu"));
         // The same name holding another scene (as a built-in scene changed by a new build).
         let other = SceneInfo::gather(&mut BenchScene::builtin("builtin:furnace").load().unwrap());
@@ -246,6 +255,7 @@ mod tests {
         let scene = BenchScene {
             scene: file.display().to_string(),
             env: None,
+            light_units: LightUnits::default(),
         };
         let held = SceneInfo::gather(&mut BenchScene::builtin("builtin:cornell").load().unwrap());
         fs::write(&file, b"glTF one").unwrap();

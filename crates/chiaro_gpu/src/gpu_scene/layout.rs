@@ -215,7 +215,7 @@ pub struct GpuLight {
     pub direction: [f32; 3],
     /// Range; +infinity when unlimited.
     pub range: f32,
-    /// Colour x intensity (candela, or lux for directional lights).
+    /// Colour x intensity (W/sr, or W/m^2 for directional lights).
     pub intensity: [f32; 3],
     /// Power-proportional CDF up to and including this light.
     pub cdf: f32,

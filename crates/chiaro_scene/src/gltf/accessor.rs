@@ -18,6 +18,8 @@ pub(crate) enum Formats {
     FloatOrUnorm,
     /// Unsigned bytes, shorts or ints, not normalized (indices).
     UnsignedInt,
+    /// Unsigned bytes or shorts, not normalized (joint indices).
+    Joints,
 }
 
 /// Reads accessors against the file's loaded buffers.
@@ -134,6 +136,7 @@ impl AccessorReader<'_> {
                 Formats::UnsignedInt => {
                     !normalized && matches!(t, DataType::U8 | DataType::U16 | DataType::U32)
                 }
+                Formats::Joints => !normalized && matches!(t, DataType::U8 | DataType::U16),
             };
         if !format_ok {
             return Err(format!(
@@ -143,6 +146,7 @@ impl AccessorReader<'_> {
                     Formats::Float => "F32",
                     Formats::FloatOrUnorm => "F32 or normalized U8/U16",
                     Formats::UnsignedInt => "U8, U16 or U32",
+                    Formats::Joints => "U8 or U16",
                 }
             ));
         }

@@ -2,8 +2,9 @@
 //!
 //! Read: the default scene (or the first), its node hierarchy, triangle primitives (strips and
 //! fans converted, points and lines skipped), materials with KHR_materials_emissive_strength,
-//! KHR_materials_ior, KHR_materials_specular's factors and KHR_texture_transform, KHR_lights_punctual, EXT_mesh_gpu_instancing,
-//! cameras. Every byte range is
+//! KHR_materials_ior, KHR_materials_specular's and KHR_materials_clearcoat's factors,
+//! KHR_texture_transform, KHR_lights_punctual, EXT_mesh_gpu_instancing, cameras, skins (each
+//! skinned mesh instance posed once at load, see `skins`). Every byte range is
 //! checked before it is read; faults are errors naming the file and the element, or repairs
 //! reported with what was dropped and how many (see [`crate::mesh_repair`]).
 
@@ -15,6 +16,7 @@ mod material_extensions;
 mod materials;
 mod nodes;
 mod primitives;
+mod skins;
 mod sources;
 
 use std::path::Path;
@@ -79,7 +81,14 @@ pub fn load_gltf_with(path: &Path, options: &LoadOptions) -> Result<SceneBuilder
         builder.add_material(material.clone());
     }
     let reader = accessor::AccessorReader { buffers: &buffers };
-    nodes::NodeImporter::new(&document, reader, &mut builder, &materials).import()?;
+    nodes::NodeImporter::new(
+        &document,
+        reader,
+        &mut builder,
+        &materials,
+        options.light_units,
+    )
+    .import()?;
     if builder.nodes().iter().all(|n| n.instance.is_none()) {
         builder.repair("scene", "has no triangles to render");
     }

@@ -6,11 +6,13 @@ use std::collections::HashMap;
 
 use glam::{Mat4, Quat, Vec3};
 
-use crate::components::{Camera, Light, LightKind, MeshInstance, Projection};
+use crate::components::{Camera, Light, LightKind, MeshInstance, Projection, Skinned};
 use crate::error::{Fault, SceneError};
 use crate::gltf::accessor::AccessorReader;
 use crate::gltf::gpu_instancing::instance_transforms;
 use crate::gltf::primitives::{Converted, convert_primitive};
+use crate::gltf::skins::{self, Pose};
+use crate::load::LightUnits;
 use crate::material::{Material, MaterialId};
 use crate::mesh::MeshId;
 use crate::scene_builder::{Node, NodeIndex, SceneBuilder};
@@ -149,7 +151,12 @@ fn node_transform(
     }))
 }
 
-fn light(l: &gltf::khr_lights_punctual::Light, repairs: &mut Vec<String>) -> Result<Light, Fault> {
+/// A KHR_lights_punctual light, its intensity read in `units`.
+fn light(
+    l: &gltf::khr_lights_punctual::Light,
+    units: LightUnits,
+    repairs: &mut Vec<String>,
+) -> Result<Light, Fault> {
     let color = Vec3::from(l.color());
     let intensity = l.intensity();
     if !color.is_finite() || color.min_element() < 0.0 || !intensity.is_finite() || intensity < 0.0
@@ -199,7 +206,7 @@ fn light(l: &gltf::khr_lights_punctual::Light, repairs: &mut Vec<String>) -> Res
     Ok(Light {
         kind,
         color,
-        intensity,
+        intensity: units.radiometric(intensity),
         range,
     })
 }
@@ -262,8 +269,12 @@ pub(crate) struct NodeImporter<'a> {
     pub builder: &'a mut SceneBuilder,
     /// The file's materials, already in the builder with ids equal to their glTF index.
     pub materials: &'a [Material],
+    /// How light intensities are read.
+    pub light_units: LightUnits,
     meshes: HashMap<(usize, usize), Option<MeshId>>,
     default_material: Option<MaterialId>,
+    /// Every glTF node's world matrix, for the joints of skins (empty without skins).
+    worlds: Vec<Mat4>,
 }
 
 impl<'a> NodeImporter<'a> {
@@ -272,14 +283,17 @@ impl<'a> NodeImporter<'a> {
         reader: AccessorReader<'a>,
         builder: &'a mut SceneBuilder,
         materials: &'a [Material],
+        light_units: LightUnits,
     ) -> Self {
         Self {
             document,
             reader,
             builder,
             materials,
+            light_units,
             meshes: HashMap::new(),
             default_material: None,
+            worlds: Vec::new(),
         }
     }
 
@@ -291,6 +305,9 @@ impl<'a> NodeImporter<'a> {
     pub fn import(&mut self) -> Result<(), SceneError> {
         let parent =
             parents(self.document).map_err(|(e, why)| self.error(e, Fault::Hierarchy(why)))?;
+        if self.document.skins().next().is_some() {
+            self.worlds = skins::node_worlds(self.document, &parent);
+        }
         let scene = self
             .document
             .default_scene()
@@ -367,7 +384,7 @@ impl<'a> NodeImporter<'a> {
             return Ok(None);
         };
         let light = match node.light() {
-            Some(l) => Some(light(&l, &mut repairs).map_err(|f| {
+            Some(l) => Some(light(&l, self.light_units, &mut repairs).map_err(|f| {
                 self.error(
                     format!("{name}, {}", element("light", l.index(), l.name())),
                     f,
@@ -387,10 +404,27 @@ impl<'a> NodeImporter<'a> {
         for r in repairs {
             self.builder.repair(name.clone(), r);
         }
+        let pose = match (node.mesh(), node.skin()) {
+            (Some(_), Some(skin)) => {
+                let above =
+                    parent.map_or(glam::Affine3A::IDENTITY, |p| self.builder.world_matrix(p));
+                let mesh_world = Mat4::from(above * transform.to_affine());
+                let pose = skins::pose(&self.reader, &skin, &self.worlds, mesh_world);
+                Some(pose.map_err(|why| {
+                    let skin = element("skin", skin.index(), skin.name());
+                    self.error(format!("{name}, {skin}"), Fault::Skin(why))
+                })?)
+            }
+            _ => None,
+        };
         let instances = match node.mesh() {
-            Some(mesh) => self.instances(&mesh)?,
+            Some(mesh) => self.instances(&mesh, pose.as_ref())?,
             None => Vec::new(),
         };
+        let skinned = pose.map(|p| Skinned {
+            skin: p.skin as u32,
+            joints: p.matrices.len() as u32,
+        });
         let gpu_instances = instance_transforms(&self.reader, self.document, node)
             .map_err(|why| self.error(name.clone(), Fault::Accessor(why)))?
             .filter(|_| !instances.is_empty());
@@ -402,6 +436,7 @@ impl<'a> NodeImporter<'a> {
             light,
             camera,
             source_node: Some(node.index() as u32),
+            skinned,
         });
         if let Some((transforms, dropped)) = gpu_instances {
             if dropped > 0 {
@@ -418,12 +453,13 @@ impl<'a> NodeImporter<'a> {
                     parent: Some(added),
                     transform,
                     instance: (instances.len() == 1).then(|| instances[0]),
+                    skinned,
                     ..Node::default()
                 });
-                self.add_primitive_children(&name, holder, &instances);
+                self.add_primitive_children(&name, holder, &instances, skinned);
             }
         } else {
-            self.add_primitive_children(&name, added, &instances);
+            self.add_primitive_children(&name, added, &instances, skinned);
         }
         Ok(Some(added))
     }
@@ -435,6 +471,7 @@ impl<'a> NodeImporter<'a> {
         name: &str,
         holder: NodeIndex,
         instances: &[MeshInstance],
+        skinned: Option<Skinned>,
     ) {
         if instances.len() > 1 {
             for (k, instance) in instances.iter().enumerate() {
@@ -442,22 +479,29 @@ impl<'a> NodeImporter<'a> {
                     name: Some(format!("{name} primitive {k}")),
                     parent: Some(holder),
                     instance: Some(*instance),
+                    skinned,
                     ..Node::default()
                 });
             }
         }
     }
 
-    /// One instance per drawable primitive of the mesh, converting each primitive once.
-    fn instances(&mut self, mesh: &gltf::Mesh) -> Result<Vec<MeshInstance>, SceneError> {
+    /// One instance per drawable primitive of the mesh, converting each primitive once; with
+    /// a `pose`, each is posed into a mesh of this instance's own.
+    fn instances(
+        &mut self,
+        mesh: &gltf::Mesh,
+        pose: Option<&Pose>,
+    ) -> Result<Vec<MeshInstance>, SceneError> {
         let mut out = Vec::new();
         for primitive in mesh.primitives() {
             let key = (mesh.index(), primitive.index());
             let material = self.material(&primitive);
-            let id = match self.meshes.get(&key) {
-                Some(id) => *id,
-                None => {
-                    let id = self.convert(mesh, &primitive, material)?;
+            let id = match (pose, self.meshes.get(&key)) {
+                (Some(pose), _) => self.convert(mesh, &primitive, material, Some(pose))?,
+                (None, Some(id)) => *id,
+                (None, None) => {
+                    let id = self.convert(mesh, &primitive, material, None)?;
                     self.meshes.insert(key, id);
                     id
                 }
@@ -483,6 +527,7 @@ impl<'a> NodeImporter<'a> {
         mesh: &gltf::Mesh,
         primitive: &gltf::Primitive,
         material: MaterialId,
+        pose: Option<&Pose>,
     ) -> Result<Option<MeshId>, SceneError> {
         let element = format!(
             "{} primitive {}",
@@ -495,8 +540,15 @@ impl<'a> NodeImporter<'a> {
             .and_then(|m| m.normal_texture)
             .map(|t| t.uv_set as usize);
         match convert_primitive(&self.reader, primitive, tangent_uv_set) {
-            Ok(Converted::Triangles(data)) => {
+            Ok(Converted::Triangles(mut data)) => {
                 let name = mesh.name().map_or_else(|| element.clone(), str::to_owned);
+                if let Some(pose) = pose {
+                    let repairs = skins::pose_primitive(&self.reader, primitive, pose, &mut data)
+                        .map_err(|why| self.error(element.clone(), Fault::Skin(why)))?;
+                    for repair in repairs {
+                        self.builder.repair(element.clone(), repair);
+                    }
+                }
                 self.builder.add_mesh(&element, &name, data)
             }
             Ok(Converted::Skipped(why)) => {
