@@ -6,8 +6,8 @@
 // lavapipe runs lane by lane, one word at a time.
 // Per pixel: world position, geometric and shading normals (octahedral, Cigolle et al., "A
 // Survey of Efficient Representations for Independent Unit Vectors", JCGT 3(2), 2014), base
-// colour, metallic, roughness, emission, instance id and the motion vector; depth in the depth
-// attachment. Alpha-masked texels are discarded. Surfaces are shaded as chiaro_reference's
+// colour (factor x texture x vertex colour), metallic, roughness, emission, instance id and the
+// motion vector; depth in the depth attachment. Alpha-masked texels are discarded. Surfaces are shaded as chiaro_reference's
 // surface_at: the front face is counter-clockwise (clockwise under a mirroring transform), a
 // back face of a single-sided material does not shade, normal maps use the interpolated
 // tangent frame. The geometric normal is the triangle's face (the cross product of its
@@ -17,6 +17,7 @@
 #import lib/bvh_bindings.wgsl
 #import lib/scene_bindings.wgsl
 #import lib/textures.wgsl
+#import lib/base_color.wgsl
 #import lib/features.wgsl
 #import lib/shading_normals.wgsl
 #import lib/camera.wgsl
@@ -35,6 +36,8 @@ struct VertexOut {
     // The triangle's front side in world space, not unit (from its first vertex, the provoking
     // one).
     @location(6) @interpolate(flat) face: vec3<f32>,
+    // The vertex colour (white without FEATURE_VERTEX_COLORS).
+    @location(7) color: vec4<f32>,
 }
 
 fn transform_point(m: array<vec4<f32>, 3>, p: vec3<f32>) -> vec3<f32> {
@@ -70,6 +73,7 @@ struct VertexIn {
     @location(11) previous_object_to_world_0: vec4<f32>,
     @location(12) previous_object_to_world_1: vec4<f32>,
     @location(13) previous_object_to_world_2: vec4<f32>,
+    @location(14) color: vec4<f32>,
 }
 
 @vertex
@@ -93,6 +97,7 @@ fn vs_main(v: VertexIn, @builtin(instance_index) instance: u32) -> VertexOut {
     // The inverse transpose keeps the object-space front side in front under a mirroring
     // transform, as chiaro_reference's surface_at does.
     out.face = transform_normal(world_to_object, v.face);
+    out.color = select(vec4<f32>(1.0), v.color, FEATURE_VERTEX_COLORS);
     return out;
 }
 
@@ -145,9 +150,8 @@ fn fs_main(in: VertexOut) -> GbufferOut {
     let record = bvh_load_instance_whole(in.instance);
     let material = scene_material(record.material);
     let mesh_flags = scene_meshes[record.mesh].flags;
-    let base = texture_sample_feature(FEATURE_BASE_COLOR_TEXTURES, material.base_color_texture,
-        in.uvs, mesh_flags, vec4<f32>(1.0));
-    if FEATURE_ALPHA_MASKS && (material.flags & MATERIAL_ALPHA_MASK) != 0u && !(material.base_color.w * base.w >= material.alpha_cutoff) {
+    let base = material_base_color(material, mesh_flags, in.uvs, in.color);
+    if FEATURE_ALPHA_MASKS && (material.flags & MATERIAL_ALPHA_MASK) != 0u && !(base.w >= material.alpha_cutoff) {
         discard;
     }
     let view = in.world - camera.origin;
@@ -170,7 +174,7 @@ fn fs_main(in: VertexOut) -> GbufferOut {
     surface.position = in.world;
     surface.geometric_normal = normals.geometric;
     surface.shading_normal = normals.shading;
-    surface.base_color = material.base_color.xyz * base.xyz;
+    surface.base_color = base.xyz;
     surface.metallic = clamp(material.metallic * metallic_roughness.z, 0.0, 1.0);
     surface.roughness = clamp(material.roughness * metallic_roughness.y, 0.0, 1.0);
     surface.shades = shades;

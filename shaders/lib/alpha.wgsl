@@ -1,11 +1,11 @@
 // The alpha-mask hook bvh.wgsl's traversal calls: a candidate hit on an alpha-masked material
-// counts only where base colour alpha x texture alpha reaches the cutoff (glTF 2.0, alpha mode
+// counts only where base colour alpha x texture alpha x vertex colour alpha reaches the cutoff (glTF 2.0, alpha mode
 // MASK), as chiaro_reference's alpha_passes decides.
 
 #import lib/generated.wgsl
 #import lib/bvh_bindings.wgsl
 #import lib/scene_bindings.wgsl
-#import lib/textures.wgsl
+#import lib/base_color.wgsl
 #import lib/features.wgsl
 
 fn hit_accepted(instance: u32, triangle: u32, barycentrics: vec2<f32>) -> bool {
@@ -17,8 +17,8 @@ fn hit_accepted(instance: u32, triangle: u32, barycentrics: vec2<f32>) -> bool {
     if (material.flags & MATERIAL_ALPHA_MASK) == 0u {
         return true;
     }
-    let uvs = scene_uvs(scene_triangle_indices(record.mesh, triangle), barycentrics);
-    let texel = texture_sample_feature(FEATURE_BASE_COLOR_TEXTURES, material.base_color_texture, uvs,
-        scene_meshes[record.mesh].flags, vec4<f32>(1.0));
-    return material.base_color.w * texel.w >= material.alpha_cutoff;
+    let indices = scene_triangle_indices(record.mesh, triangle);
+    let base = material_base_color(material, scene_meshes[record.mesh].flags,
+        scene_uvs(indices, barycentrics), vertex_color(indices, barycentrics));
+    return base.w >= material.alpha_cutoff;
 }

@@ -5,7 +5,7 @@
 #import lib/generated.wgsl
 #import lib/bvh_bindings.wgsl
 
-// chiaro_gpu::GpuVertex: object-space vertex.
+// chiaro_gpu::GpuVertex: object-space vertex; `color` is RGBA as four unorm16 (base_color.wgsl).
 struct GpuVertex {
     position: vec3<f32>,
     u0: f32,
@@ -13,7 +13,7 @@ struct GpuVertex {
     v0: f32,
     tangent: vec4<f32>,
     uv1: vec2<f32>,
-    pad: vec2<f32>,
+    color: vec2<u32>,
 }
 
 // chiaro_gpu::GpuMesh: triangle t of the mesh uses scene_index(index_base + 3 t + k),
@@ -152,7 +152,7 @@ fn scene_vertex(i: u32) -> GpuVertex {
     let b = bitcast<vec4<f32>>(texel_array_load(scene_vertex_texels, 4u * i + 1u));
     let c = bitcast<vec4<f32>>(texel_array_load(scene_vertex_texels, 4u * i + 2u));
     let d = bitcast<vec4<f32>>(texel_array_load(scene_vertex_texels, 4u * i + 3u));
-    return GpuVertex(a.xyz, a.w, b.xyz, b.w, c, d.xy, d.zw);
+    return GpuVertex(a.xyz, a.w, b.xyz, b.w, c, d.xy, bitcast<vec2<u32>>(d.zw));
 }
 
 // Global vertex index i (four to a texel).

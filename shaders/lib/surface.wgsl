@@ -7,6 +7,7 @@
 
 #import lib/generated.wgsl
 #import lib/alpha.wgsl
+#import lib/base_color.wgsl
 #import lib/bvh.wgsl
 #import lib/scene_bindings.wgsl
 #import lib/textures.wgsl
@@ -115,8 +116,7 @@ fn surface_at_hit(direction: vec3<f32>, hit: Hit) -> SurfaceHit {
         world_tangent, t.mirrored, geometric_front);
     let normals = orient_normals(geometric_front, shading_front, direction,
         (material.flags & MATERIAL_DOUBLE_SIDED) != 0u);
-    let base = texture_sample_feature(FEATURE_BASE_COLOR_TEXTURES, material.base_color_texture, uvs,
-        mesh_flags, vec4<f32>(1.0));
+    let base = material_base_color(material, mesh_flags, uvs, vertex_color_of(v0, v1, v2, w));
     let metallic_roughness = texture_sample_feature(FEATURE_METALLIC_ROUGHNESS_TEXTURES,
         material.metallic_roughness_texture, uvs,
         mesh_flags, vec4<f32>(1.0));
@@ -125,7 +125,7 @@ fn surface_at_hit(direction: vec3<f32>, hit: Hit) -> SurfaceHit {
     s.geometric_normal = normals.geometric;
     s.frame = frame_from_normal(normals.shading);
     s.wo = frame_to_local(s.frame, -direction);
-    s.params = SurfaceParams(material.base_color.xyz * base.xyz,
+    s.params = SurfaceParams(base.xyz,
         clamp(material.metallic * metallic_roughness.z, 0.0, 1.0),
         clamp(material.roughness * metallic_roughness.y, 0.0, 1.0), material.f0_dielectric,
         material.specular, material.specular_color, material.absorption);

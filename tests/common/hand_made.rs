@@ -73,3 +73,82 @@ pub fn load(path: &str) -> (World, Result<SpawnedScene, SceneError>) {
     let result = load_scene(&mut world, path);
     (world, result)
 }
+
+/// An embedded buffer built view by view, with one accessor per view: for hand-made files of
+/// several attributes and meshes.
+#[derive(Default)]
+pub struct EmbeddedBuffer {
+    bytes: Vec<u8>,
+    views: Vec<Value>,
+    accessors: Vec<Value>,
+}
+
+impl EmbeddedBuffer {
+    /// Appends `data` as a view (4-byte aligned) with an accessor of `count` elements of type
+    /// `kind` ("VEC3", ...) and component type `component` (5126 float, 5121 unsigned byte, ...),
+    /// `normalized` or not; returns the accessor's index.
+    pub fn add(
+        &mut self,
+        data: &[u8],
+        count: usize,
+        kind: &str,
+        component: u32,
+        normalized: bool,
+    ) -> usize {
+        while self.bytes.len() % 4 != 0 {
+            self.bytes.push(0);
+        }
+        self.views
+            .push(json!({"buffer": 0, "byteOffset": self.bytes.len(), "byteLength": data.len()}));
+        self.bytes.extend_from_slice(data);
+        let mut accessor = json!({"bufferView": self.views.len() - 1, "componentType": component,
+            "count": count, "type": kind});
+        if normalized {
+            accessor["normalized"] = json!(true);
+        }
+        self.accessors.push(accessor);
+        self.accessors.len() - 1
+    }
+
+    /// Appends float positions (with the bounds glTF requires); their accessor's index.
+    pub fn positions(&mut self, positions: &[[f32; 3]]) -> usize {
+        let floats: Vec<f32> = positions.iter().flatten().copied().collect();
+        let index = self.add(
+            &bytes_of(&floats, &[]),
+            positions.len(),
+            "VEC3",
+            5126,
+            false,
+        );
+        let bound = |pick: fn(f32, f32) -> f32| {
+            (0..3)
+                .map(|k| positions.iter().map(|p| p[k]).reduce(pick).unwrap())
+                .collect::<Vec<_>>()
+        };
+        self.accessors[index]["min"] = json!(bound(f32::min));
+        self.accessors[index]["max"] = json!(bound(f32::max));
+        index
+    }
+
+    /// Appends unsigned int indices; their accessor's index.
+    pub fn indices(&mut self, indices: &[u32]) -> usize {
+        self.add(
+            &bytes_of(&[], indices),
+            indices.len(),
+            "SCALAR",
+            5125,
+            false,
+        )
+    }
+
+    /// Sets `gltf`'s buffers, views and accessors to these.
+    pub fn finish(self, gltf: &mut Value) {
+        let uri = format!(
+            "data:application/octet-stream;base64,{}",
+            base64::engine::general_purpose::STANDARD.encode(&self.bytes)
+        );
+        gltf["buffers"] = json!([{"byteLength": self.bytes.len(), "uri": uri}]);
+        gltf["bufferViews"] = Value::Array(self.views);
+        gltf["accessors"] = Value::Array(self.accessors);
+    }
+}

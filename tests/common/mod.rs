@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 pub mod hand_made;
+pub mod parity;
 
 use std::path::PathBuf;
 

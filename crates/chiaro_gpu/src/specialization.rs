@@ -4,7 +4,8 @@
 //! The shaders that read the scene (`gbuffer`, `direct`, `indirect`) import the virtual module
 //! `lib/features.wgsl`, written by [`features_module`]: one pipeline-overridable `bool` per
 //! [`PipelineFeatures`] flag, `true` by default, guarding the code of that feature (a texture
-//! lookup, the alpha-mask test in BVH traversal, a kind of light, the environment). A pipeline
+//! lookup, the alpha-mask test in BVH traversal, vertex colours, a kind of light, the
+//! environment). A pipeline
 //! is created with the flags of the scene's [`SceneFeatures`]; the driver's compiler then drops
 //! the code behind every flag that is off. The image is the same: a flag is off only when the
 //! scene has nothing the guarded code would act on, and no guarded code draws random numbers
@@ -65,9 +66,11 @@ impl PipelineFeatures {
     /// Light trees to pick lights through ([`crate::gpu_scene::GpuScene::light_trees`]), and
     /// the frame picks through them ([`crate::settings::LightSampling::Tree`]).
     pub const LIGHT_TREES: Self = Self(1 << 11);
+    /// Vertex colours multiply the base colour and alpha.
+    pub const VERTEX_COLORS: Self = Self(1 << 12);
 
     /// Every flag, in bit order.
-    pub const FLAGS: [FeatureFlag; 12] = [
+    pub const FLAGS: [FeatureFlag; 13] = [
         flag(
             Self::BASE_COLOR_TEXTURES,
             "FEATURE_BASE_COLOR_TEXTURES",
@@ -116,6 +119,11 @@ impl PipelineFeatures {
             "FEATURE_LIGHT_TREES",
             "light trees, and the frame picks lights through them",
         ),
+        flag(
+            Self::VERTEX_COLORS,
+            "FEATURE_VERTEX_COLORS",
+            "vertex colours",
+        ),
     ];
 
     /// No feature.
@@ -139,6 +147,7 @@ impl PipelineFeatures {
         add(features.emissive_textures, Self::EMISSIVE_TEXTURES);
         add(features.normal_maps, Self::NORMAL_MAPS);
         add(features.alpha_masks, Self::ALPHA_MASKS);
+        add(features.vertex_colors, Self::VERTEX_COLORS);
         add(features.point_lights, Self::POINT_LIGHTS);
         add(features.spot_lights, Self::SPOT_LIGHTS);
         add(features.directional_lights, Self::DIRECTIONAL_LIGHTS);

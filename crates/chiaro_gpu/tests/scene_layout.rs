@@ -62,7 +62,7 @@ fn scene_records_match_their_wgsl_structs() {
         s,
         GpuVertex,
         "GpuVertex",
-        [position, u0, normal, v0, tangent, uv1, pad]
+        [position, u0, normal, v0, tangent, uv1, color]
     );
     check!(
         s,

@@ -5,7 +5,7 @@
 //!   all-features frame and every frame with one more flag than the scene needs are the same
 //!   image with the same seed: relMSE at most [`ROUNDING`].
 //! - On a Cornell box given every feature (textures of each kind, a normal-mapped panel, an
-//!   alpha-masked block, point, spot and directional lights, an environment image, an
+//!   alpha-masked block, vertex colours on the panel, point, spot and directional lights, an environment image, an
 //!   emitting short block, whose triangles with the light's are enough for a light tree), the
 //!   pipeline for exactly the scene's features renders the all-features image, and turning any
 //!   one flag off changes the image (relMSE above [`MISSING`]).
@@ -23,7 +23,7 @@ use chiaro_scene::{
     Materials, Mesh, MeshData, MeshInstance, Meshes, SceneFeatures, Texture, TextureRef, Textures,
     Transform, load_scene,
 };
-use glam::{Affine2, Quat, Vec2, Vec3};
+use glam::{Affine2, Quat, Vec2, Vec3, Vec4};
 
 use common::rel_mse;
 
@@ -198,6 +198,12 @@ fn cornell_with_every_feature() -> World {
             ],
             normals: Some(vec![Vec3::NEG_Z; 4]),
             uvs: [Some(vec![Vec2::ZERO, Vec2::X, Vec2::ONE, Vec2::Y]), None],
+            colors: Some(vec![
+                Vec4::new(1.0, 0.3, 0.3, 1.0),
+                Vec4::new(0.3, 1.0, 0.3, 1.0),
+                Vec4::new(0.3, 0.3, 1.0, 1.0),
+                Vec4::ONE,
+            ]),
             indices: Some(vec![0, 1, 2, 0, 2, 3]),
             tangent_uv_set: Some(0),
             ..Default::default()

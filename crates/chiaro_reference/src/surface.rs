@@ -61,6 +61,31 @@ pub fn uvs_at(mesh: &Mesh, triangle: u32, b: Vec3) -> [Option<Vec2>; 2] {
     ]
 }
 
+/// The vertex colour at barycentrics `b` of `triangle`: white and opaque without colours.
+pub fn vertex_color_at(mesh: &Mesh, triangle: u32, b: Vec3) -> Vec4 {
+    let i = triangle as usize * 3;
+    mesh.colors()
+        .map_or(Vec4::ONE, |c| interpolate(c, &mesh.indices()[i..i + 3], b))
+}
+
+/// The base colour and alpha of `material` at barycentrics `b` of `triangle` of `mesh`, with UVs
+/// `uvs` there: factor x texture x vertex colour (glTF 2.0's base colour).
+pub fn base_color_at(
+    scene: &RenderScene,
+    material: &Material,
+    mesh: &Mesh,
+    triangle: u32,
+    b: Vec3,
+    uvs: [Option<Vec2>; 2],
+) -> Vec4 {
+    let texture = material
+        .base_color_texture
+        .as_ref()
+        .and_then(|slot| sample_slot(scene.textures, slot, uvs))
+        .unwrap_or(Vec4::ONE);
+    material.base_color * texture * vertex_color_at(mesh, triangle, b)
+}
+
 fn barycentrics(hit: &Hit) -> Vec3 {
     Vec3::new(
         1.0 - hit.barycentrics.x - hit.barycentrics.y,
@@ -91,18 +116,9 @@ pub fn alpha_passes(scene: &RenderScene, hit: &Hit) -> bool {
     let Some(mesh) = scene.meshes.get(record.mesh) else {
         return true;
     };
-    let texture_alpha = material
-        .base_color_texture
-        .as_ref()
-        .and_then(|slot| {
-            sample_slot(
-                scene.textures,
-                slot,
-                uvs_at(mesh, hit.triangle, barycentrics(hit)),
-            )
-        })
-        .map_or(1.0, |t| t.w);
-    material.base_color.w * texture_alpha >= cutoff
+    let b = barycentrics(hit);
+    let uvs = uvs_at(mesh, hit.triangle, b);
+    base_color_at(scene, material, mesh, hit.triangle, b, uvs).w >= cutoff
 }
 
 /// Evaluates the surface at `hit` of `ray`.
@@ -163,10 +179,10 @@ pub fn surface_at(scene: &RenderScene, ray: &Ray, hit: &Hit) -> SurfaceHit {
     }
     let shades = front_facing || material.double_sided;
 
-    let base = sample(&material.base_color_texture);
+    let base = base_color_at(scene, material, mesh, hit.triangle, b, uvs);
     let metallic_roughness = sample(&material.metallic_roughness_texture);
     let params = SurfaceParams {
-        base_color: material.base_color.truncate() * base.truncate(),
+        base_color: base.truncate(),
         metallic: (material.metallic * metallic_roughness.z).clamp(0.0, 1.0),
         roughness: (material.roughness * metallic_roughness.y).clamp(0.0, 1.0),
         f0_dielectric: material.dielectric_f0(),

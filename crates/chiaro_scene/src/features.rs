@@ -12,6 +12,7 @@ use bevy_ecs::prelude::*;
 use crate::components::{Light, LightKind, MeshInstance};
 use crate::environment::{Environment, EnvironmentSource};
 use crate::material::{AlphaMode, Material, Materials};
+use crate::mesh::Meshes;
 
 /// Where light from outside the scene comes from.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -42,6 +43,8 @@ pub struct SceneFeatures {
     pub second_uv_set: bool,
     /// Some used material is alpha-masked.
     pub alpha_masks: bool,
+    /// Some used mesh has vertex colours (glTF's COLOR_0).
+    pub vertex_colors: bool,
     /// Some used material is double-sided.
     pub double_sided: bool,
     /// The scene has a point light of non-zero intensity.
@@ -59,11 +62,12 @@ pub struct SceneFeatures {
 }
 
 impl SceneFeatures {
-    /// The features of a scene with these instances, lights, materials and environment.
+    /// The features of a scene with these instances, lights, materials, meshes and environment.
     pub fn gather<'a>(
         instances: impl IntoIterator<Item = &'a MeshInstance>,
         lights: impl IntoIterator<Item = &'a Light>,
         materials: &Materials,
+        meshes: &Meshes,
         environment: Option<&Environment>,
     ) -> Self {
         let mut features = Self::default();
@@ -72,6 +76,8 @@ impl SceneFeatures {
         for instance in instances {
             if !meshes_seen.insert(instance.mesh) {
                 features.instancing = true;
+            } else if let Some(mesh) = meshes.get(instance.mesh) {
+                features.vertex_colors |= mesh.colors().is_some();
             }
             if materials_seen.insert(instance.material)
                 && let Some(material) = materials.get(instance.material)
@@ -130,6 +136,7 @@ impl SceneFeatures {
             (self.emissive_textures, "emissive textures"),
             (self.second_uv_set, "second UV set"),
             (self.alpha_masks, "alpha masks"),
+            (self.vertex_colors, "vertex colours"),
             (self.double_sided, "double-sided materials"),
             (self.point_lights, "point lights"),
             (self.spot_lights, "spot lights"),
@@ -153,7 +160,7 @@ pub struct SceneFeatureStats {
     pub changes: u64,
 }
 
-/// Recomputes [`SceneFeatures`] when instances, lights, materials or the environment changed
+/// Recomputes [`SceneFeatures`] when instances, lights, materials, meshes or the environment changed
 /// (added, edited or removed), and stores it only when it differs. Creates the resources on
 /// its first run.
 #[allow(clippy::too_many_arguments)]
@@ -166,6 +173,7 @@ pub fn update_scene_features(
     mut removed_instances: RemovedComponents<MeshInstance>,
     mut removed_lights: RemovedComponents<Light>,
     materials: Option<Res<Materials>>,
+    meshes: Option<Res<Meshes>>,
     environment: Option<Res<Environment>>,
     features: Option<ResMut<SceneFeatures>>,
     stats: Option<ResMut<SceneFeatureStats>>,
@@ -175,15 +183,17 @@ pub fn update_scene_features(
         || !changed_instances.is_empty()
         || !changed_lights.is_empty()
         || materials.as_ref().is_some_and(|m| m.is_changed())
+        || meshes.as_ref().is_some_and(|m| m.is_changed())
         || environment.as_ref().is_some_and(|e| e.is_changed());
     if features.is_some() && !changed {
         return;
     }
-    let empty = Materials::default();
+    let (no_materials, no_meshes) = (Materials::default(), Meshes::default());
     let fresh = SceneFeatures::gather(
         instances,
         lights,
-        materials.as_deref().unwrap_or(&empty),
+        materials.as_deref().unwrap_or(&no_materials),
+        meshes.as_deref().unwrap_or(&no_meshes),
         environment.as_deref(),
     );
     let differs = match features {
@@ -322,7 +332,17 @@ mod tests {
             intensity: 0.0,
             range: None,
         };
-        let f = SceneFeatures::gather([], [&dark], &materials, None);
+        let mut meshes = Meshes::default();
+        let mut colored = crate::builtin::shapes::floor(1.0);
+        colored.colors = Some(vec![glam::Vec4::ONE; colored.positions.len()]);
+        meshes.add(crate::mesh::Mesh::new("coloured", colored).unwrap().0);
+        let f = SceneFeatures::gather([], [&dark], &materials, &meshes, None);
         assert_eq!(f, SceneFeatures::default());
+        let used = MeshInstance {
+            mesh: crate::mesh::MeshId(0),
+            material: crate::material::MaterialId(0),
+        };
+        let f = SceneFeatures::gather([&used], [], &materials, &meshes, None);
+        assert!(f.vertex_colors && f.alpha_masks);
     }
 }

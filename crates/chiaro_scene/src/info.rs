@@ -186,6 +186,7 @@ impl SceneInfo {
                 &instances,
                 &lights,
                 world.resource::<Materials>(),
+                world.resource::<Meshes>(),
                 world.get_resource::<Environment>(),
             )
         };

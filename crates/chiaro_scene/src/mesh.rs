@@ -11,7 +11,8 @@ use crate::mesh_repair::{MeshData, MeshFault, repair_mesh};
 pub struct MeshId(pub u32);
 
 /// An indexed triangle mesh whose data is known good: every index is in range, every position,
-/// normal, tangent and UV is finite, normals are unit length, no triangle has zero area.
+/// normal, tangent, UV and colour is finite, normals are unit length, colours lie in [0, 1], no
+/// triangle has zero area.
 /// Built only through [`Mesh::new`], which repairs or refuses raw data.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Mesh {
@@ -20,6 +21,7 @@ pub struct Mesh {
     pub(crate) normals: Vec<Vec3>,
     pub(crate) tangents: Option<Vec<Vec4>>,
     pub(crate) uvs: [Option<Vec<Vec2>>; 2],
+    pub(crate) colors: Option<Vec<Vec4>>,
     pub(crate) indices: Vec<u32>,
 }
 
@@ -53,6 +55,12 @@ impl Mesh {
     /// UV set 0 or 1, when present.
     pub fn uv(&self, set: usize) -> Option<&[Vec2]> {
         self.uvs.get(set).and_then(|uv| uv.as_deref())
+    }
+
+    /// Linear RGBA vertex colours (glTF's COLOR_0, alpha 1 where the file gives RGB), when
+    /// present: they multiply the material's base colour and alpha.
+    pub fn colors(&self) -> Option<&[Vec4]> {
+        self.colors.as_deref()
     }
 
     /// Triangle list indices, three per triangle.

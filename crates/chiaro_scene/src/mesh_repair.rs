@@ -11,6 +11,8 @@
 //!   requires); non-finite or zero-length normals are replaced by the area-weighted normal of the
 //!   triangles around the vertex; other normals are normalised;
 //! - non-finite UVs become (0, 0);
+//! - non-finite colour components become 1 (white, opaque: the colour then changes nothing),
+//!   components outside [0, 1] are clamped to it;
 //! - tangents with a non-finite or zero xyz are regenerated with MikkTSpace, as are missing ones
 //!   when [`MeshData::tangent_uv_set`] asks for them.
 
@@ -37,6 +39,8 @@ pub struct MeshData {
     pub tangents: Option<Vec<Vec4>>,
     /// UV sets 0 and 1.
     pub uvs: [Option<Vec<Vec2>>; 2],
+    /// Linear RGBA vertex colours (alpha 1 for RGB data).
+    pub colors: Option<Vec<Vec4>>,
     /// Triangle list indices; `None` means vertices 0, 1, 2, ... in order.
     pub indices: Option<Vec<u32>>,
     /// When set, tangents are required (a normal map uses this UV set): generated if missing.
@@ -87,6 +91,7 @@ pub(crate) fn repair_mesh(name: String, data: MeshData) -> Result<(Mesh, Vec<Str
     )?;
     check_length("uv set 0", data.uvs[0].as_ref().map(Vec::len), vertex_count)?;
     check_length("uv set 1", data.uvs[1].as_ref().map(Vec::len), vertex_count)?;
+    check_length("colors", data.colors.as_ref().map(Vec::len), vertex_count)?;
 
     let mut repairs = Vec::new();
     let mut indices = data
@@ -131,6 +136,7 @@ pub(crate) fn repair_mesh(name: String, data: MeshData) -> Result<(Mesh, Vec<Str
         normals: Vec::new(),
         tangents: data.tangents,
         uvs: data.uvs,
+        colors: data.colors,
         indices,
     };
     for (set, uv) in mesh.uvs.iter_mut().enumerate() {
@@ -146,6 +152,7 @@ pub(crate) fn repair_mesh(name: String, data: MeshData) -> Result<(Mesh, Vec<Str
             repairs.push(format!("set {fixed} non-finite UVs of set {set} to (0, 0)"));
         }
     }
+    repair_colors(&mut mesh, &mut repairs);
     match data.normals {
         Some(normals) => repair_normals(&mut mesh, normals, &mut repairs),
         None => make_flat(&mut mesh),
@@ -232,6 +239,30 @@ fn is_zero_area(p: [Vec3; 3]) -> bool {
     doubled_area <= DEGENERATE_RELATIVE_AREA * longest || doubled_area == 0.0
 }
 
+/// Non-finite colour components become 1; the others are clamped to [0, 1].
+fn repair_colors(mesh: &mut Mesh, repairs: &mut Vec<String>) {
+    let (mut non_finite, mut clamped) = (0, 0);
+    for c in mesh.colors.iter_mut().flatten() {
+        if !c.is_finite() {
+            non_finite += 1;
+            *c = Vec4::select(c.is_finite_mask(), *c, Vec4::ONE);
+        }
+        let inside = c.clamp(Vec4::ZERO, Vec4::ONE);
+        if inside != *c {
+            clamped += 1;
+            *c = inside;
+        }
+    }
+    if non_finite > 0 {
+        repairs.push(format!(
+            "set the non-finite components of {non_finite} vertex colours to 1"
+        ));
+    }
+    if clamped > 0 {
+        repairs.push(format!("clamped {clamped} vertex colours to [0, 1]"));
+    }
+}
+
 /// Area-weighted face normal sum at each vertex over the kept triangles.
 fn accumulated_face_normals(mesh: &Mesh) -> Vec<DVec3> {
     let mut sum = vec![DVec3::ZERO; mesh.positions.len()];
@@ -277,6 +308,10 @@ fn make_flat(mesh: &mut Mesh) {
         .tangents
         .as_deref()
         .map(|t| corners.iter().map(|&i| t[i as usize]).collect());
+    mesh.colors = mesh
+        .colors
+        .as_deref()
+        .map(|c| corners.iter().map(|&i| c[i as usize]).collect());
     let positions: Vec<Vec3> = corners
         .iter()
         .map(|&i| mesh.positions[i as usize])
@@ -430,6 +465,33 @@ mod tests {
         let (mesh, repairs) = Mesh::new("q", data).unwrap();
         assert_eq!(mesh.uv(0).unwrap()[1], Vec2::ZERO);
         assert_eq!(repairs, vec!["set 2 non-finite UVs of set 0 to (0, 0)"]);
+    }
+
+    #[test]
+    fn bad_colours_are_repaired_and_flat_meshes_keep_them() {
+        let mut data = quad();
+        data.normals = None;
+        data.colors = Some(vec![
+            Vec4::new(0.25, 0.5, 0.75, 1.0),
+            Vec4::new(f32::NAN, 0.5, f32::INFINITY, 0.5),
+            Vec4::new(2.0, -1.0, 0.5, 1.0),
+            Vec4::ONE,
+        ]);
+        let (mesh, repairs) = Mesh::new("q", data).unwrap();
+        assert_eq!(
+            repairs,
+            vec![
+                "set the non-finite components of 1 vertex colours to 1",
+                "clamped 1 vertex colours to [0, 1]"
+            ]
+        );
+        // Flat normals give each triangle its own corners: (0, 1, 2), (0, 2, 3).
+        let colors = mesh.colors().unwrap();
+        assert_eq!(colors.len(), 6);
+        assert_eq!(colors[0], Vec4::new(0.25, 0.5, 0.75, 1.0));
+        assert_eq!(colors[1], Vec4::new(1.0, 0.5, 1.0, 0.5));
+        assert_eq!(colors[2], Vec4::new(1.0, 0.0, 0.5, 1.0));
+        assert_eq!(colors[5], Vec4::ONE);
     }
 
     #[test]

@@ -12,7 +12,7 @@ use chiaro_scene::{
 };
 use chiaro_shading::color::luminance;
 use chiaro_shading::light_tree::LightBounds;
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 
 use super::layout::*;
 
@@ -29,6 +29,14 @@ pub fn mesh_runs(meshes: impl Iterator<Item = u32>) -> Vec<(u32, Range<u32>)> {
     runs
 }
 
+/// A linear RGBA colour in [0, 1] as four unorm16 in two words (WGSL's `pack2x16unorm` of
+/// (r, g) and of (b, a)).
+pub fn pack_color(color: Vec4) -> [u32; 2] {
+    let unorm = |x: f32| (x.clamp(0.0, 1.0) * 65535.0).round() as u32;
+    let c = color.to_array().map(unorm);
+    [c[0] | (c[1] << 16), c[2] | (c[3] << 16)]
+}
+
 /// Vertices, indices (global vertex indices) and the per-mesh table.
 pub fn meshes(meshes: &Meshes) -> (Vec<GpuVertex>, Vec<u32>, Vec<GpuMesh>) {
     let mut vertices = Vec::new();
@@ -39,6 +47,7 @@ pub fn meshes(meshes: &Meshes) -> (Vec<GpuVertex>, Vec<u32>, Vec<GpuMesh>) {
         let uv0 = mesh.uv(0);
         let uv1 = mesh.uv(1);
         let tangents = mesh.tangents();
+        let colors = mesh.colors();
         let flags = bit(uv0.is_some(), MESH_HAS_UV0)
             | bit(uv1.is_some(), MESH_HAS_UV1)
             | bit(tangents.is_some(), MESH_HAS_TANGENTS);
@@ -51,7 +60,7 @@ pub fn meshes(meshes: &Meshes) -> (Vec<GpuVertex>, Vec<u32>, Vec<GpuMesh>) {
                 v0: uv[1],
                 tangent: tangents.map_or([0.0; 4], |t| t[i].to_array()),
                 uv1: uv1.map_or([0.0; 2], |uv| uv[i].to_array()),
-                pad: [0.0; 2],
+                color: pack_color(colors.map_or(Vec4::ONE, |c| c[i])),
             });
         }
         table.push(GpuMesh {
@@ -461,6 +470,15 @@ mod tests {
         let runs = mesh_runs([4, 4, 4, 1, 4, 4, 2].into_iter());
         assert_eq!(runs, vec![(4, 0..3), (1, 3..4), (4, 4..6), (2, 6..7)]);
         assert!(mesh_runs(std::iter::empty()).is_empty());
+    }
+
+    #[test]
+    fn colours_pack_as_unorm16_red_low() {
+        assert_eq!(pack_color(Vec4::ONE), [u32::MAX; 2]);
+        assert_eq!(
+            pack_color(Vec4::new(1.0, 0.0, 0.5, 2.0)),
+            [0x0000_ffff, 0xffff_8000]
+        );
     }
 
     #[test]

@@ -99,8 +99,10 @@ pub struct GpuVertex {
     pub tangent: [f32; 4],
     /// UV set 1 (zero without it).
     pub uv1: [f32; 2],
-    /// Padding, zero.
-    pub pad: [f32; 2],
+    /// Linear RGBA vertex colour as four unorm16, R in the low half of word 0 and A in the
+    /// high half of word 1 (`gather::pack_color`); white without colours. It fills what
+    /// was padding: a scene without colours pays no memory for them.
+    pub color: [u32; 2],
 }
 
 /// Where a mesh's data lies in the vertex and index buffers.

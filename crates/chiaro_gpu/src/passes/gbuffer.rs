@@ -197,8 +197,9 @@ macro_rules! vertex_offset {
 }
 
 /// Locations 0 to 3: the scene vertex's position and u, normal and v, tangent, and UV set 1;
-/// location 4: the face of the triangle that starts at the vertex.
-const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 5] = [
+/// location 4: the face of the triangle that starts at the vertex; location 14: the vertex
+/// colour (four unorm16).
+const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 6] = [
     attribute(wgpu::VertexFormat::Float32x4, vertex_offset!(position), 0),
     attribute(wgpu::VertexFormat::Float32x4, vertex_offset!(normal), 1),
     attribute(wgpu::VertexFormat::Float32x4, vertex_offset!(tangent), 2),
@@ -208,6 +209,7 @@ const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 5] = [
         offset_of!(RasterVertex, face),
         4,
     ),
+    attribute(wgpu::VertexFormat::Unorm16x4, vertex_offset!(color), 14),
 ];
 
 /// Locations 5 to 10: the rows of world-to-object, then of object-to-world.

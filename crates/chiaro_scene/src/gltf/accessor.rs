@@ -236,6 +236,24 @@ impl AccessorReader<'_> {
             .collect())
     }
 
+    /// Reads a colour attribute (glTF's COLOR_n): RGB or RGBA, of floats or normalized
+    /// unsigned bytes or shorts, as RGBA (alpha 1 for RGB).
+    pub(crate) fn read_color(&self, accessor: &Accessor) -> Result<Vec<[f32; 4]>, String> {
+        match accessor.dimensions() {
+            Dimensions::Vec3 => Ok(self
+                .read_f32::<3>(accessor, Formats::FloatOrUnorm)?
+                .into_iter()
+                .map(|[r, g, b]| [r, g, b, 1.0])
+                .collect()),
+            Dimensions::Vec4 => self.read_f32::<4>(accessor, Formats::FloatOrUnorm),
+            other => Err(format!(
+                "accessor {} is a colour of {} components where 3 (RGB) or 4 (RGBA) are needed",
+                accessor.index(),
+                dimension_count(other)
+            )),
+        }
+    }
+
     /// Reads an index accessor.
     pub(crate) fn read_indices(&self, accessor: &Accessor) -> Result<Vec<u32>, String> {
         Ok(self

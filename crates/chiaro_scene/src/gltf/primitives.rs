@@ -1,5 +1,5 @@
-//! glTF mesh primitives to raw [`MeshData`]: attributes read through the checked accessor
-//! reader, strips and fans turned into triangle lists. Points and lines are not surfaces: they
+//! glTF mesh primitives to raw [`MeshData`]: attributes (positions, normals, tangents, two UV
+//! sets, COLOR_0) read through the checked accessor reader, strips and fans turned into triangle lists. Points and lines are not surfaces: they
 //! are skipped, and the caller reports it.
 
 use glam::{Vec2, Vec3, Vec4};
@@ -92,6 +92,10 @@ pub(crate) fn convert_primitive(
             );
         }
     }
+    let colors = match primitive.get(&Semantic::Colors(0)) {
+        Some(a) => Some(reader.read_color(&a)?.into_iter().map(Vec4::from).collect()),
+        None => None,
+    };
     let indices = match primitive.indices() {
         Some(a) => reader.read_indices(&a)?,
         None => (0..positions.len() as u32).collect(),
@@ -106,6 +110,7 @@ pub(crate) fn convert_primitive(
         normals,
         tangents,
         uvs,
+        colors,
         indices: Some(indices),
         tangent_uv_set,
     }))
