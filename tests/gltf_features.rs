@@ -371,3 +371,64 @@ fn required_gpu_instancing_is_read() {
     assert_eq!((info.instances, info.meshes), (5, 3));
     assert!((info.bounds.max.x - 11.0).abs() < 1e-6, "{:?}", info.bounds);
 }
+
+#[test]
+fn specular_and_clearcoat_factors_are_read_and_bad_ones_repaired() {
+    let mut json = scene_json();
+    json["materials"][0]["extensions"]["KHR_materials_specular"] = json!({
+        "specularFactor": 0.25, "specularColorFactor": [2.0, 1.0, 0.5],
+        "specularTexture": {"index": 0}
+    });
+    json["materials"][0]["extensions"]["KHR_materials_clearcoat"] =
+        json!({"clearcoatFactor": 0.75, "clearcoatRoughnessFactor": 0.3});
+    json["materials"][1]["extensions"]["KHR_materials_clearcoat"] =
+        json!({"clearcoatFactor": 4.0, "clearcoatRoughnessFactor": "rough"});
+    json["extensionsUsed"] = json!([
+        "KHR_lights_punctual",
+        "KHR_materials_emissive_strength",
+        "KHR_materials_ior",
+        "KHR_texture_transform",
+        "KHR_materials_specular",
+        "KHR_materials_clearcoat"
+    ]);
+    let path = write("extensions.gltf", &json);
+    let mut world = World::new();
+    let spawned = load_scene(&mut world, path.to_str().unwrap()).unwrap();
+    let materials = world.resource::<chiaro_scene::Materials>();
+    let named = |name: &str| {
+        materials
+            .iter()
+            .find(|(_, m)| m.name == name)
+            .map(|(_, m)| m.clone())
+            .unwrap()
+    };
+    let textured = named("textured");
+    assert_eq!(
+        (textured.specular, textured.specular_color),
+        (0.25, Vec3::new(2.0, 1.0, 0.5))
+    );
+    assert_eq!(
+        (textured.clearcoat, textured.clearcoat_roughness),
+        (0.75, 0.3)
+    );
+    let glowing = named("glowing");
+    assert_eq!(
+        (
+            glowing.specular,
+            glowing.clearcoat,
+            glowing.clearcoat_roughness
+        ),
+        (1.0, 1.0, 0.0)
+    );
+    let actions: Vec<&str> = spawned.repairs.iter().map(|r| r.action.as_str()).collect();
+    for expected in [
+        "KHR_materials_specular's specularTexture is not read: its factor alone is used",
+        "clear coat factor 4 clamped to [0, 1]",
+        "clear coat roughness \"rough\" is not a number: the default is used",
+    ] {
+        assert!(
+            actions.contains(&expected),
+            "{expected:?} not in {actions:?}"
+        );
+    }
+}

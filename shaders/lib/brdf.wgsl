@@ -5,7 +5,10 @@
 // dielectric = (1 - specular max(F_d)) base_color / pi + specular F_d D V,
 //   F_d = Schlick(min(f0_ior specular_color, 1), h.wi)
 // metal = Schlick(base_color, h.wi) D V
-// f = (1 - absorption) mix(dielectric, metal, metallic)
+// base = mix(dielectric, metal, metallic)
+// f = (1 - absorption) mix(base, coat D_c V_c, clearcoat Schlick(0.04, n.wo))
+//   (KHR_materials_clearcoat's fresnel_coat; the coat code is compiled in only with
+//   FEATURE_CLEARCOAT, and clearcoat is 0 without it)
 //
 // - D and V (Smith height-correlated G2 / (4 n.wo n.wi)) as in ggx.wgsl (Walter et al. 2007;
 //   Heitz 2014); Schlick, 1994, "An Inexpensive BRDF Model for Physically-based Rendering"
@@ -13,14 +16,15 @@
 // - Sampling: Fresnel-weighted lobe choice, cosine-weighted diffuse, GGX visible normals
 //   (Heitz 2018), one-sample MIS with the combined pdf (Veach, 1997, thesis, section 9.2.4).
 //
-// Alpha below MIRROR_ALPHA makes the specular lobe a perfect mirror (a delta lobe that
-// brdf_eval and brdf_pdf leave out and brdf_sample returns with delta = true).
+// Alpha below MIRROR_ALPHA makes the specular lobe or the coat a perfect mirror (a delta lobe
+// that brdf_eval and brdf_pdf leave out and brdf_sample returns with delta = true).
 
 #import lib/generated.wgsl
 #import lib/float.wgsl
 #import lib/color.wgsl
 #import lib/sampling.wgsl
 #import lib/ggx.wgsl
+#import lib/features.wgsl
 
 // A surface's material at a shading point, after texture lookup (chiaro_shading's
 // SurfaceParams). Every field is clamped on use.
@@ -31,6 +35,8 @@ struct SurfaceParams {
     f0_dielectric: f32,
     specular: f32,
     specular_color: vec3<f32>,
+    clearcoat: f32,
+    clearcoat_roughness: f32,
     absorption: f32,
 }
 
@@ -53,6 +59,9 @@ struct BrdfMaterial {
     alpha: f32,
     scale: f32,
     mirror: bool,
+    clearcoat: f32,
+    coat_alpha: f32,
+    coat_mirror: bool,
 }
 
 // ((ior - 1) / (ior + 1))^2; negative IORs count as 0.
@@ -82,6 +91,14 @@ fn brdf_material(p: SurfaceParams) -> BrdfMaterial {
     m.alpha = alpha;
     m.scale = 1.0 - clamp(p.absorption, 0.0, 1.0);
     m.mirror = alpha < MIRROR_ALPHA;
+    m.clearcoat = 0.0;
+    m.coat_alpha = 1.0;
+    m.coat_mirror = false;
+    if FEATURE_CLEARCOAT {
+        m.clearcoat = clamp(p.clearcoat, 0.0, 1.0);
+        m.coat_alpha = alpha_from_roughness(p.clearcoat_roughness);
+        m.coat_mirror = m.coat_alpha < MIRROR_ALPHA;
+    }
     return m;
 }
 
@@ -103,22 +120,55 @@ fn brdf_fresnel(m: BrdfMaterial, cos_theta: f32) -> FresnelWeights {
     return w;
 }
 
-// (specular, diffuse) selection probabilities for this view: both 0 when nothing reflects.
-fn brdf_lobe_probabilities(m: BrdfMaterial, wo_z: f32) -> vec2<f32> {
+// KHR_materials_clearcoat's blend for the view: clearcoat Schlick(0.04, n.wo).
+fn brdf_coat_weight(m: BrdfMaterial, wo_z: f32) -> f32 {
+    if !FEATURE_CLEARCOAT || m.clearcoat <= 0.0 {
+        return 0.0;
+    }
+    return m.clearcoat * fresnel_schlick(vec3<f32>(COAT_F0), wo_z).x;
+}
+
+// One minus brdf_coat_weight, as (1 - clearcoat) + clearcoat (1 - F0) (1 - (1 - cos)^5) with
+// the last factor a polynomial in cos: precise at grazing views.
+fn brdf_base_weight(m: BrdfMaterial, wo_z: f32) -> f32 {
+    if !FEATURE_CLEARCOAT || m.clearcoat <= 0.0 {
+        return 1.0;
+    }
+    let x = clamp(wo_z, 0.0, 1.0);
+    let one_minus_m5 = x * (5.0 + x * (-10.0 + x * (10.0 + x * (-5.0 + x))));
+    return (1.0 - m.clearcoat) + m.clearcoat * (1.0 - COAT_F0) * one_minus_m5;
+}
+
+// The probability of side a against side b (chiaro_shading's split): -1 (the Rust's NaN)
+// when both are 0, 0 or 1 when one is, else a / (a + b) kept off the ends.
+fn brdf_split(a: f32, b: f32) -> f32 {
+    if a <= 0.0 && b <= 0.0 {
+        return -1.0;
+    } else if b <= 0.0 {
+        return 1.0;
+    } else if a <= 0.0 {
+        return 0.0;
+    }
+    return clamp(a / (a + b), MIN_LOBE_PROBABILITY, 1.0 - MIN_LOBE_PROBABILITY);
+}
+
+// Selection probabilities for this view: (coat, specular, diffuse), all 0 when nothing
+// reflects.
+fn brdf_lobe_probabilities(m: BrdfMaterial, wo_z: f32) -> vec3<f32> {
     let weights = brdf_fresnel(m, wo_z);
     let specular = luminance(weights.specular);
     let diffuse = luminance(weights.diffuse);
-    var p: f32;
-    if specular <= 0.0 && diffuse <= 0.0 {
-        return vec2<f32>(0.0);
-    } else if diffuse <= 0.0 {
-        p = 1.0;
-    } else if specular <= 0.0 {
-        p = 0.0;
-    } else {
-        p = clamp(specular / (specular + diffuse), MIN_LOBE_PROBABILITY, 1.0 - MIN_LOBE_PROBABILITY);
+    let coat = brdf_coat_weight(m, wo_z);
+    let p_coat = brdf_split(coat, brdf_base_weight(m, wo_z) * (specular + diffuse));
+    if p_coat < 0.0 {
+        return vec3<f32>(0.0);
     }
-    return vec2<f32>(p, 1.0 - p);
+    let p_specular = brdf_split(specular, diffuse);
+    if p_specular < 0.0 {
+        return vec3<f32>(1.0, 0.0, 0.0);
+    }
+    let p_base = 1.0 - p_coat;
+    return vec3<f32>(p_coat, p_base * p_specular, p_base * (1.0 - p_specular));
 }
 
 // The unit half vector of two directions above the surface, scaled by the largest component
@@ -133,11 +183,12 @@ fn brdf_half_vector(wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
     return ggx_normalize(sum / largest);
 }
 
-// The two lobes for wo, wi above the surface, without the absorption scale:
-// (pi f_diffuse, f_specular), as two columns.
+// The lobes for wo, wi above the surface, without the absorption scale and the coat's blend:
+// pi f_diffuse, f_specular and the coat's D V.
 struct BrdfLobes {
     diffuse: vec3<f32>,
     specular: vec3<f32>,
+    coat: f32,
 }
 
 fn brdf_lobes(m: BrdfMaterial, wo: vec3<f32>, wi: vec3<f32>) -> BrdfLobes {
@@ -150,23 +201,27 @@ fn brdf_lobes(m: BrdfMaterial, wo: vec3<f32>, wi: vec3<f32>) -> BrdfLobes {
     } else {
         l.specular = weights.specular * (ndf(h, m.alpha) * visibility(wo, wi, m.alpha));
     }
+    l.coat = 0.0;
+    if FEATURE_CLEARCOAT && m.clearcoat > 0.0 && !m.coat_mirror {
+        l.coat = ndf(h, m.coat_alpha) * visibility(wo, wi, m.coat_alpha);
+    }
     return l;
 }
 
-// The specular lobe's VNDF pdf (0 for the mirror).
-fn brdf_specular_pdf(m: BrdfMaterial, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
-    if m.mirror {
+// The VNDF pdf of a glossy lobe of this alpha (0 for a mirror).
+fn brdf_glossy_pdf(mirror: bool, alpha: f32, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
+    if mirror {
         return 0.0;
     }
-    return reflected_vndf_pdf(wo, brdf_half_vector(wo, wi), m.alpha);
+    return reflected_vndf_pdf(wo, brdf_half_vector(wo, wi), alpha);
 }
 
-// The probability that brdf_sample picks the specular lobe for this view.
+// The probability that brdf_sample picks the base's specular lobe for this view.
 fn specular_probability(p: SurfaceParams, wo: vec3<f32>) -> f32 {
     if wo.z <= 0.0 {
         return 0.0;
     }
-    return brdf_lobe_probabilities(brdf_material(p), wo.z).x;
+    return brdf_lobe_probabilities(brdf_material(p), wo.z).y;
 }
 
 // f(wo, wi) without the cosine; 0 when wo.z <= 0 or wi.z <= 0.
@@ -176,15 +231,25 @@ fn brdf_eval(p: SurfaceParams, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
     }
     let m = brdf_material(p);
     let l = brdf_lobes(m, wo, wi);
-    return (l.diffuse * INV_PI + l.specular) * m.scale;
+    let coat = brdf_coat_weight(m, wo.z);
+    return ((l.diffuse * INV_PI + l.specular) * brdf_base_weight(m, wo.z) + vec3<f32>(l.coat * coat))
+        * m.scale;
 }
 
-fn brdf_combined_pdf(m: BrdfMaterial, wo: vec3<f32>, wi: vec3<f32>, probabilities: vec2<f32>) -> f32 {
-    var specular = 0.0;
-    if probabilities.x > 0.0 {
-        specular = probabilities.x * brdf_specular_pdf(m, wo, wi);
+// The glossy lobes' pdf (specular and coat, selection included).
+fn brdf_glossy_lobes_pdf(m: BrdfMaterial, wo: vec3<f32>, wi: vec3<f32>, probabilities: vec3<f32>) -> f32 {
+    var pdf = 0.0;
+    if probabilities.y > 0.0 {
+        pdf += probabilities.y * brdf_glossy_pdf(m.mirror, m.alpha, wo, wi);
     }
-    return probabilities.y * (wi.z * INV_PI) + specular;
+    if FEATURE_CLEARCOAT && probabilities.x > 0.0 {
+        pdf += probabilities.x * brdf_glossy_pdf(m.coat_mirror, m.coat_alpha, wo, wi);
+    }
+    return pdf;
+}
+
+fn brdf_combined_pdf(m: BrdfMaterial, wo: vec3<f32>, wi: vec3<f32>, probabilities: vec3<f32>) -> f32 {
+    return probabilities.z * (wi.z * INV_PI) + brdf_glossy_lobes_pdf(m, wo, wi, probabilities);
 }
 
 // The solid-angle pdf with which brdf_sample draws wi from its non-delta lobes.
@@ -196,8 +261,32 @@ fn brdf_pdf(p: SurfaceParams, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
     return brdf_combined_pdf(m, wo, wi, brdf_lobe_probabilities(m, wo.z));
 }
 
-// Draws wi for the view wo: u_lobe picks the lobe, u drives its warp. Invalid (the Rust's None)
-// when wo.z <= 0, when nothing reflects, or when the direction drawn is at or below the horizon.
+// The mirror direction's sample: every delta lobe (the base's specular, the coat) points the
+// same way, so it carries all of them over their summed selection probability.
+fn brdf_mirror_sample(m: BrdfMaterial, wo: vec3<f32>, probabilities: vec3<f32>) -> BrdfSample {
+    let coat = brdf_coat_weight(m, wo.z);
+    var weight = vec3<f32>(0.0);
+    var pdf = 0.0;
+    if m.mirror && probabilities.y > 0.0 {
+        weight += brdf_fresnel(m, wo.z).specular * brdf_base_weight(m, wo.z);
+        pdf += probabilities.y;
+    }
+    if m.coat_mirror && probabilities.x > 0.0 {
+        weight += vec3<f32>(coat);
+        pdf += probabilities.x;
+    }
+    var s: BrdfSample;
+    s.wi = vec3<f32>(-wo.x, -wo.y, wo.z);
+    s.weight = weight * m.scale / pdf;
+    s.pdf = pdf;
+    s.delta = true;
+    s.valid = true;
+    return s;
+}
+
+// Draws wi for the view wo: u_lobe picks the lobe (coat, then specular, then diffuse), u
+// drives its warp. Invalid (the Rust's None) when wo.z <= 0, when nothing reflects, or when
+// the direction drawn is at or below the horizon.
 fn brdf_sample(p: SurfaceParams, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>) -> BrdfSample {
     var s: BrdfSample;
     s.valid = false;
@@ -207,22 +296,20 @@ fn brdf_sample(p: SurfaceParams, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>) -> Br
     }
     let m = brdf_material(p);
     let probabilities = brdf_lobe_probabilities(m, wo.z);
-    let p_specular = probabilities.x;
-    let p_diffuse = probabilities.y;
-    if p_specular <= 0.0 && p_diffuse <= 0.0 {
+    let p_coat = probabilities.x;
+    let p_specular = probabilities.y;
+    let p_diffuse = probabilities.z;
+    if p_coat <= 0.0 && p_specular <= 0.0 && p_diffuse <= 0.0 {
         return s;
     }
     var wi: vec3<f32>;
-    if u_lobe < p_specular {
-        if m.mirror {
-            s.wi = vec3<f32>(-wo.x, -wo.y, wo.z);
-            s.weight = brdf_fresnel(m, wo.z).specular * m.scale / p_specular;
-            s.pdf = p_specular;
-            s.delta = true;
-            s.valid = true;
-            return s;
+    let coat_lobe = u_lobe < p_coat;
+    if coat_lobe || u_lobe - p_coat < p_specular {
+        if (coat_lobe && m.coat_mirror) || (!coat_lobe && m.mirror) {
+            return brdf_mirror_sample(m, wo, probabilities);
         }
-        let h = sample_vndf(wo, m.alpha, u);
+        // One VNDF call for both glossy lobes (lavapipe runs every arm of a branch).
+        let h = sample_vndf(wo, select(m.alpha, m.coat_alpha, coat_lobe), u);
         wi = 2.0 * dot(wo, h) * h - wo;
     } else {
         wi = cosine_hemisphere(u);
@@ -236,8 +323,10 @@ fn brdf_sample(p: SurfaceParams, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>) -> Br
     }
     // f cos / pdf divided through by cos / pi: finite as wi.z -> 0.
     let l = brdf_lobes(m, wo, wi);
-    let numerator = (l.diffuse + l.specular * PI) * m.scale;
-    let denominator = p_diffuse + p_specular * brdf_specular_pdf(m, wo, wi) * PI / wi.z;
+    let coat = brdf_coat_weight(m, wo.z);
+    let numerator = ((l.diffuse + l.specular * PI) * brdf_base_weight(m, wo.z)
+        + vec3<f32>(l.coat * coat * PI)) * m.scale;
+    let denominator = p_diffuse + brdf_glossy_lobes_pdf(m, wo, wi, probabilities) * PI / wi.z;
     s.wi = wi;
     s.weight = numerator / denominator;
     s.pdf = pdf;

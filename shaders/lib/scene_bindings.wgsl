@@ -48,9 +48,9 @@ struct GpuMaterial {
     normal_scale: f32,
     flags: u32,
     specular: f32,
-    pad0: u32,
+    clearcoat: f32,
     specular_color: vec3<f32>,
-    pad1: u32,
+    clearcoat_roughness: f32,
     base_color_texture: GpuTextureSlot,
     metallic_roughness_texture: GpuTextureSlot,
     normal_texture: GpuTextureSlot,
@@ -171,7 +171,8 @@ fn scene_material(i: u32) -> GpuMaterial {
     let specular_color = texel_array_load(scene_material_texels, first + 4u);
     return GpuMaterial(base_color, bitcast<vec3<f32>>(emission.xyz), bitcast<f32>(emission.w),
         factors.x, factors.y, factors.z, factors.w, bitcast<f32>(tail.x), tail.y,
-        bitcast<f32>(tail.z), tail.w, bitcast<vec3<f32>>(specular_color.xyz), specular_color.w,
+        bitcast<f32>(tail.z), bitcast<f32>(tail.w), bitcast<vec3<f32>>(specular_color.xyz),
+        bitcast<f32>(specular_color.w),
         scene_texture_slot(first + 5u), scene_texture_slot(first + 8u),
         scene_texture_slot(first + 11u), scene_texture_slot(first + 14u));
 }

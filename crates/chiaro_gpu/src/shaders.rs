@@ -148,6 +148,7 @@ pub fn shared_constants() -> Vec<SharedConstant> {
         F32("PI", std::f32::consts::PI),
         F32("INV_PI", std::f32::consts::FRAC_1_PI),
         F32("MIRROR_ALPHA", chiaro_shading::brdf::MIRROR_ALPHA),
+        F32("COAT_F0", chiaro_shading::brdf::COAT_F0),
         F32(
             "MIN_LOBE_PROBABILITY",
             chiaro_shading::brdf::MIN_LOBE_PROBABILITY,

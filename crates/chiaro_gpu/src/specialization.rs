@@ -68,9 +68,11 @@ impl PipelineFeatures {
     pub const LIGHT_TREES: Self = Self(1 << 11);
     /// Vertex colours multiply the base colour and alpha.
     pub const VERTEX_COLORS: Self = Self(1 << 12);
+    /// A clear coat (KHR_materials_clearcoat) is evaluated and sampled in the BRDF.
+    pub const CLEARCOAT: Self = Self(1 << 13);
 
     /// Every flag, in bit order.
-    pub const FLAGS: [FeatureFlag; 13] = [
+    pub const FLAGS: [FeatureFlag; 14] = [
         flag(
             Self::BASE_COLOR_TEXTURES,
             "FEATURE_BASE_COLOR_TEXTURES",
@@ -124,6 +126,11 @@ impl PipelineFeatures {
             "FEATURE_VERTEX_COLORS",
             "vertex colours",
         ),
+        flag(
+            Self::CLEARCOAT,
+            "FEATURE_CLEARCOAT",
+            "clear-coated materials",
+        ),
     ];
 
     /// No feature.
@@ -148,6 +155,7 @@ impl PipelineFeatures {
         add(features.normal_maps, Self::NORMAL_MAPS);
         add(features.alpha_masks, Self::ALPHA_MASKS);
         add(features.vertex_colors, Self::VERTEX_COLORS);
+        add(features.clearcoat, Self::CLEARCOAT);
         add(features.point_lights, Self::POINT_LIGHTS);
         add(features.spot_lights, Self::SPOT_LIGHTS);
         add(features.directional_lights, Self::DIRECTIONAL_LIGHTS);

@@ -72,6 +72,9 @@ struct BrdfInput {
     absorption: f32,
     specular_color: [f32; 3],
     specular: f32,
+    clearcoat: f32,
+    clearcoat_roughness: f32,
+    pad: [f32; 2],
 }
 
 #[repr(C)]
@@ -103,6 +106,8 @@ struct BrdfInput {
     absorption: f32,
     specular_color: vec3<f32>,
     specular: f32,
+    clearcoat: f32,
+    clearcoat_roughness: f32,
 }
 
 struct BrdfOutput {
@@ -126,7 +131,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let x = inputs[i];
     let p = SurfaceParams(x.base_color, x.metallic, x.roughness, x.f0_dielectric, x.specular,
-        x.specular_color, x.absorption);
+        x.specular_color, x.clearcoat, x.clearcoat_roughness, x.absorption);
     var o: BrdfOutput;
     o.eval = brdf_eval(p, x.wo, x.wi);
     o.pdf = brdf_pdf(p, x.wo, x.wi);
@@ -187,6 +192,9 @@ fn random_params(rng: &mut Pcg32) -> SurfaceParams {
     let specular = pick(&[0.0, 1.0]);
     let base_color = Vec3::new(pick(&[0.0, 1.0]), pick(&[0.0, 1.0]), pick(&[0.0, 1.0]));
     let specular_color = Vec3::new(pick(&[0.0, 1.0]), pick(&[1.0]), pick(&[0.0, 30.0]));
+    // Half the materials have no coat.
+    let clearcoat = pick(&[0.0, 1.0]) * f32::from(u8::from(pick(&[0.0, 1.0]) >= 0.5));
+    let clearcoat_roughness = pick(&[0.0, 1.0, MIRROR_ALPHA.sqrt() * 1.001, 0.05]);
     SurfaceParams {
         base_color,
         metallic,
@@ -194,6 +202,8 @@ fn random_params(rng: &mut Pcg32) -> SurfaceParams {
         f0_dielectric,
         specular,
         specular_color,
+        clearcoat,
+        clearcoat_roughness,
         absorption,
     }
 }
@@ -229,6 +239,9 @@ fn random_input(rng: &mut Pcg32) -> BrdfInput {
         absorption: p.absorption,
         specular_color: p.specular_color.to_array(),
         specular: p.specular,
+        clearcoat: p.clearcoat,
+        clearcoat_roughness: p.clearcoat_roughness,
+        pad: [0.0; 2],
     }
 }
 
@@ -240,6 +253,8 @@ fn params(x: &BrdfInput) -> SurfaceParams {
         f0_dielectric: x.f0_dielectric,
         specular: x.specular,
         specular_color: Vec3::from_array(x.specular_color),
+        clearcoat: x.clearcoat,
+        clearcoat_roughness: x.clearcoat_roughness,
         absorption: x.absorption,
     }
 }

@@ -40,7 +40,7 @@ fn square(half: f32, height: f32) -> MeshData {
             None,
         ],
         indices: Some(vec![0, 1, 2, 0, 2, 3]),
-        tangent_uv_set: None,
+        ..MeshData::default()
     }
 }
 

@@ -188,6 +188,8 @@ pub fn surface_at(scene: &RenderScene, ray: &Ray, hit: &Hit) -> SurfaceHit {
         f0_dielectric: material.dielectric_f0(),
         specular: material.specular,
         specular_color: material.specular_color,
+        clearcoat: material.clearcoat,
+        clearcoat_roughness: material.clearcoat_roughness,
         absorption: material.absorption,
     };
     let emission = if shades {

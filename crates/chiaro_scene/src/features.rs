@@ -45,6 +45,8 @@ pub struct SceneFeatures {
     pub alpha_masks: bool,
     /// Some used mesh has vertex colours (glTF's COLOR_0).
     pub vertex_colors: bool,
+    /// Some used material has a clear coat (KHR_materials_clearcoat).
+    pub clearcoat: bool,
     /// Some used material is double-sided.
     pub double_sided: bool,
     /// The scene has a point light of non-zero intensity.
@@ -115,6 +117,7 @@ impl SceneFeatures {
         self.emissive_textures |= m.emissive_texture.is_some() && m.is_emissive();
         self.second_uv_set |= m.texture_slots().any(|(_, t)| t.uv_set == 1);
         self.alpha_masks |= matches!(m.alpha_mode, AlphaMode::Mask { .. });
+        self.clearcoat |= m.clearcoat > 0.0;
         self.double_sided |= m.double_sided;
         self.emissive_triangles |= m.is_emissive();
     }
@@ -137,6 +140,7 @@ impl SceneFeatures {
             (self.second_uv_set, "second UV set"),
             (self.alpha_masks, "alpha masks"),
             (self.vertex_colors, "vertex colours"),
+            (self.clearcoat, "clear coats"),
             (self.double_sided, "double-sided materials"),
             (self.point_lights, "point lights"),
             (self.spot_lights, "spot lights"),

@@ -110,6 +110,11 @@ pub struct Material {
     /// KHR_materials_specular's specularColorFactor (linear, each channel at least 0): it
     /// scales the dielectric's F0, which is then capped at 1 (1 when absent).
     pub specular_color: Vec3,
+    /// KHR_materials_clearcoat's clearcoatFactor in [0, 1]: a clear coat's strength over the
+    /// material (0 when absent: no coat).
+    pub clearcoat: f32,
+    /// KHR_materials_clearcoat's clearcoatRoughnessFactor in [0, 1] (0 when absent).
+    pub clearcoat_roughness: f32,
     /// The notes' energy absorption factor in [0, 1]: the BRDF is scaled by (1 - absorption).
     /// Read from the material's glTF `extras` as `{"absorption": x}`; 0 when absent.
     pub absorption: f32,
@@ -136,6 +141,8 @@ impl Default for Material {
             ior: 1.5,
             specular: 1.0,
             specular_color: Vec3::ONE,
+            clearcoat: 0.0,
+            clearcoat_roughness: 0.0,
             absorption: 0.0,
         }
     }

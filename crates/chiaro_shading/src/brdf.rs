@@ -1,13 +1,17 @@
 //! The glTF 2.0 metallic-roughness BRDF exactly as the specification's Appendix B defines it,
-//! with KHR_materials_specular's two parameters, in the local shading frame (z = shading normal;
-//! `wo` and `wi` are unit vectors pointing away from the surface):
+//! with KHR_materials_specular's and KHR_materials_clearcoat's parameters, in the local shading
+//! frame (z = shading normal; `wo` and `wi` are unit vectors pointing away from the surface):
 //!
 //! - dielectric = fresnel_mix: (1 - specular max(F_d)) base_color / pi + specular F_d D V,
 //!   F_d = Schlick at h.wi with F0 = min(f0_ior specular_color, 1) and F90 = 1
 //!   (KHR_materials_specular's form of fresnel_mix; without the extension specular = 1 and
 //!   specular_color = 1, which is the core spec's mix(diffuse, specular, F_d));
 //! - metal = F_m D V, F_m = Schlick at h.wi with F0 = base_color and F90 = 1 (conductor_fresnel);
-//! - f = (1 - absorption) mix(dielectric, metal, metallic).
+//! - base = mix(dielectric, metal, metallic);
+//! - f = (1 - absorption) fresnel_coat: mix(base, coat D_c V_c, clearcoat F_c(n.wo)), with
+//!   KHR_materials_clearcoat's coat a GGX lobe of its own roughness and F_c Schlick with F0
+//!   0.04 (without the extension clearcoat = 0 and f is the base alone). The coat shares the
+//!   shading normal (the extension's separate coat normal map is not read).
 //!
 //! - D: GGX with alpha = roughness^2 ([`crate::ggx::ndf`]; Walter et al., 2007, "Microfacet Models
 //!   for Refraction through Rough Surfaces").
@@ -34,10 +38,11 @@
 //! 1997, thesis, section 9.2.4), so [`pdf`] is that combined pdf.
 //!
 //! Clamps (all applied on entry, so every function sees the same material):
-//! - `base_color` per channel, `metallic`, `roughness`, `f0_dielectric`, `specular` and
-//!   `absorption` to [0, 1]; `specular_color` to at least 0 (the extension lets it exceed 1),
+//! - `base_color` per channel, `metallic`, `roughness`, `f0_dielectric`, `specular`,
+//!   `clearcoat`, `clearcoat_roughness` and `absorption` to [0, 1]; `specular_color` to at least 0 (the extension lets it exceed 1),
 //!   the dielectric's F0 to at most 1;
-//! - alpha below [`MIRROR_ALPHA`] makes the specular lobe a perfect mirror (a delta lobe);
+//! - alpha below [`MIRROR_ALPHA`] makes the specular lobe or the coat a perfect mirror (a delta
+//!   lobe);
 //! - the cosine passed to Schlick's formula is clamped to [0, 1];
 //! - the visibility denominator is kept at least [`crate::ggx::VISIBILITY_DENOMINATOR_FLOOR`].
 //!
@@ -95,6 +100,11 @@ pub struct SurfaceParams {
     /// specular colour texture; 1 without the extension). Negative channels count as 0; the
     /// dielectric's F0 is min(f0_dielectric specular_color, 1).
     pub specular_color: Vec3,
+    /// KHR_materials_clearcoat's factor: the strength of a clear coat over the material
+    /// (0 without the extension); clamped to [0, 1].
+    pub clearcoat: f32,
+    /// The clear coat's perceptual roughness (its GGX alpha is its square); clamped to [0, 1].
+    pub clearcoat_roughness: f32,
     /// Fraction of energy absorbed: f is scaled by (1 - absorption). Clamped to [0, 1].
     pub absorption: f32,
 }
@@ -109,6 +119,8 @@ impl Default for SurfaceParams {
             f0_dielectric: DEFAULT_F0_DIELECTRIC,
             specular: 1.0,
             specular_color: Vec3::ONE,
+            clearcoat: 0.0,
+            clearcoat_roughness: 0.0,
             absorption: 0.0,
         }
     }
@@ -152,6 +164,12 @@ struct Material {
     scale: f32,
     /// Alpha below [`MIRROR_ALPHA`]: the specular lobe is a delta.
     mirror: bool,
+    /// KHR_materials_clearcoat's factor.
+    clearcoat: f32,
+    /// The clear coat's GGX alpha.
+    coat_alpha: f32,
+    /// The coat's alpha is below [`MIRROR_ALPHA`]: its lobe is a delta.
+    coat_mirror: bool,
 }
 
 /// The Fresnel weights of the two lobes at one cosine: the specular lobe's colour and the
@@ -161,11 +179,21 @@ struct FresnelWeights {
     diffuse: Vec3,
 }
 
+/// The probabilities with which [`sample`] picks each lobe for one view: all 0 when the material
+/// reflects nothing, otherwise summing to 1.
+#[derive(Clone, Copy, Debug)]
+struct LobeProbabilities {
+    coat: f32,
+    specular: f32,
+    diffuse: f32,
+}
+
 impl Material {
     fn new(p: &SurfaceParams) -> Self {
         let f0_ior = p.f0_dielectric.clamp(0.0, 1.0);
         let specular_color = p.specular_color.max(Vec3::ZERO);
         let alpha = ggx::alpha_from_roughness(p.roughness);
+        let coat_alpha = ggx::alpha_from_roughness(p.clearcoat_roughness);
         Self {
             base: p.base_color.clamp(Vec3::ZERO, Vec3::ONE),
             metallic: p.metallic.clamp(0.0, 1.0),
@@ -174,6 +202,9 @@ impl Material {
             alpha,
             scale: 1.0 - p.absorption.clamp(0.0, 1.0),
             mirror: alpha < MIRROR_ALPHA,
+            clearcoat: p.clearcoat.clamp(0.0, 1.0),
+            coat_alpha,
+            coat_mirror: coat_alpha < MIRROR_ALPHA,
         }
     }
 
@@ -191,23 +222,78 @@ impl Material {
         }
     }
 
-    /// Selection probabilities (specular, diffuse) for this view: both 0 when the material
-    /// reflects nothing, otherwise summing to 1.
-    fn lobe_probabilities(&self, wo_z: f32) -> (f32, f32) {
+    /// KHR_materials_clearcoat's blend for the view: clearcoat F_c(n.wo), F_c Schlick with
+    /// F0 0.04 (IOR 1.5). The coat reflects that much through its own GGX lobe; the base
+    /// beneath is weighted by one minus it ([`Material::base_weight`]).
+    fn coat_weight(&self, wo_z: f32) -> f32 {
+        if self.clearcoat <= 0.0 {
+            return 0.0;
+        }
+        self.clearcoat * fresnel_schlick(Vec3::splat(COAT_F0), wo_z).x
+    }
+
+    /// One minus [`Material::coat_weight`], written as (1 - clearcoat) + clearcoat (1 - F0)
+    /// (1 - (1 - cos)^5) with the last factor a polynomial in cos, so that it keeps its
+    /// precision at grazing views, where the coat weight tends to 1.
+    fn base_weight(&self, wo_z: f32) -> f32 {
+        if self.clearcoat <= 0.0 {
+            return 1.0;
+        }
+        let x = wo_z.clamp(0.0, 1.0);
+        let one_minus_m5 = x * (5.0 + x * (-10.0 + x * (10.0 + x * (-5.0 + x))));
+        (1.0 - self.clearcoat) + self.clearcoat * (1.0 - COAT_F0) * one_minus_m5
+    }
+
+    /// Selection probabilities for this view: the coat against the base by their weights at
+    /// n.wo, then within the base the specular lobe against the diffuse one by the luminance
+    /// of their Fresnel weights; each split kept in [`MIN_LOBE_PROBABILITY`],
+    /// 1 - [`MIN_LOBE_PROBABILITY`] when both sides exist, exactly 0 or 1 when only one does.
+    fn lobe_probabilities(&self, wo_z: f32) -> LobeProbabilities {
         let weights = self.fresnel(wo_z);
         let specular = luminance(weights.specular);
         let diffuse = luminance(weights.diffuse);
-        let p = if specular <= 0.0 && diffuse <= 0.0 {
-            return (0.0, 0.0);
-        } else if diffuse <= 0.0 {
-            1.0
-        } else if specular <= 0.0 {
-            0.0
-        } else {
-            (specular / (specular + diffuse))
-                .clamp(MIN_LOBE_PROBABILITY, 1.0 - MIN_LOBE_PROBABILITY)
-        };
-        (p, 1.0 - p)
+        let coat = self.coat_weight(wo_z);
+        let base = self.base_weight(wo_z) * (specular + diffuse);
+        let p_coat = split(coat, base);
+        let p_specular = split(specular, diffuse);
+        if p_coat.is_nan() {
+            return LobeProbabilities {
+                coat: 0.0,
+                specular: 0.0,
+                diffuse: 0.0,
+            };
+        }
+        let p_base = 1.0 - p_coat;
+        if p_specular.is_nan() {
+            return LobeProbabilities {
+                coat: 1.0,
+                specular: 0.0,
+                diffuse: 0.0,
+            };
+        }
+        LobeProbabilities {
+            coat: p_coat,
+            specular: p_base * p_specular,
+            diffuse: p_base * (1.0 - p_specular),
+        }
+    }
+}
+
+/// KHR_materials_clearcoat's coat: IOR 1.5, so F0 0.04.
+pub const COAT_F0: f32 = 0.04;
+
+/// The probability of picking side `a` against side `b` from their weights: NaN when both are
+/// zero, 0 or 1 when one is, otherwise a / (a + b) kept in [`MIN_LOBE_PROBABILITY`],
+/// 1 - [`MIN_LOBE_PROBABILITY`].
+fn split(a: f32, b: f32) -> f32 {
+    if a <= 0.0 && b <= 0.0 {
+        f32::NAN
+    } else if b <= 0.0 {
+        1.0
+    } else if a <= 0.0 {
+        0.0
+    } else {
+        (a / (a + b)).clamp(MIN_LOBE_PROBABILITY, 1.0 - MIN_LOBE_PROBABILITY)
     }
 }
 
@@ -223,9 +309,18 @@ fn half_vector(wo: Vec3, wi: Vec3) -> Vec3 {
     (sum / largest).normalize()
 }
 
-/// The two lobes of f for wo, wi above the surface, without the (1 - absorption) scale, with the
-/// diffuse lobe times pi (so it is exactly the diffuse albedo): (pi f_diffuse, f_specular).
-fn lobes(m: &Material, wo: Vec3, wi: Vec3) -> (Vec3, Vec3) {
+/// The lobes of f for wo, wi above the surface, without the (1 - absorption) scale and the
+/// coat's blend, with the diffuse lobe times pi (so it is exactly the diffuse albedo).
+struct Lobes {
+    /// pi f_diffuse.
+    diffuse: Vec3,
+    /// f_specular.
+    specular: Vec3,
+    /// The coat's D V (0 for a mirror coat, whose delta is no part of f).
+    coat: f32,
+}
+
+fn lobes(m: &Material, wo: Vec3, wi: Vec3) -> Lobes {
     let h = half_vector(wo, wi);
     let weights = m.fresnel(h.dot(wi));
     let specular = if m.mirror {
@@ -233,38 +328,49 @@ fn lobes(m: &Material, wo: Vec3, wi: Vec3) -> (Vec3, Vec3) {
     } else {
         weights.specular * (ggx::ndf(h, m.alpha) * ggx::visibility(wo, wi, m.alpha))
     };
-    (weights.diffuse, specular)
+    let coat = if m.clearcoat <= 0.0 || m.coat_mirror {
+        0.0
+    } else {
+        ggx::ndf(h, m.coat_alpha) * ggx::visibility(wo, wi, m.coat_alpha)
+    };
+    Lobes {
+        diffuse: weights.diffuse,
+        specular,
+        coat,
+    }
 }
 
-/// The solid-angle pdf of the specular lobe's VNDF sampling for wo, wi above the surface (0 for
-/// the mirror, whose delta is not part of any pdf).
-fn specular_pdf(m: &Material, wo: Vec3, wi: Vec3) -> f32 {
-    if m.mirror {
+/// The solid-angle pdf of VNDF sampling with `alpha` for wo, wi above the surface (0 for a
+/// mirror, whose delta is not part of any pdf).
+fn glossy_pdf(mirror: bool, alpha: f32, wo: Vec3, wi: Vec3) -> f32 {
+    if mirror {
         return 0.0;
     }
-    ggx::reflected_vndf_pdf(wo, half_vector(wo, wi), m.alpha)
+    ggx::reflected_vndf_pdf(wo, half_vector(wo, wi), alpha)
 }
 
-/// The probability that [`sample`] picks the specular lobe for this view: the luminance of the
-/// specular lobe's Fresnel weight at n.wo against the diffuse lobe's, clamped to [`MIN_LOBE_PROBABILITY`], 1 - [`MIN_LOBE_PROBABILITY`] when both lobes exist;
-/// exactly 0 or 1 when only one does; 0 when the material reflects nothing or wo.z <= 0.
+/// The probability that [`sample`] picks the base's specular lobe for this view: the luminance
+/// of the specular lobe's Fresnel weight at n.wo against the diffuse lobe's, clamped to
+/// [`MIN_LOBE_PROBABILITY`], 1 - [`MIN_LOBE_PROBABILITY`] when both lobes exist, times the
+/// base's share against a clear coat; 0 when the material reflects nothing or wo.z <= 0.
 pub fn specular_probability(p: &SurfaceParams, wo: Vec3) -> f32 {
     if wo.z <= 0.0 {
         return 0.0;
     }
-    Material::new(p).lobe_probabilities(wo.z).0
+    Material::new(p).lobe_probabilities(wo.z).specular
 }
 
 /// The BRDF value f(wo, wi) (no cosine), for unit local directions; zero when wo.z <= 0 or
-/// wi.z <= 0. With alpha below [`MIRROR_ALPHA`] the mirror lobe is a delta and only the diffuse
-/// part is returned.
+/// wi.z <= 0. A specular lobe or coat with alpha below [`MIRROR_ALPHA`] is a delta, left out.
 pub fn eval(p: &SurfaceParams, wo: Vec3, wi: Vec3) -> Vec3 {
     if wo.z <= 0.0 || wi.z <= 0.0 {
         return Vec3::ZERO;
     }
     let m = Material::new(p);
-    let (diffuse, specular) = lobes(&m, wo, wi);
-    (diffuse * FRAC_1_PI + specular) * m.scale
+    let l = lobes(&m, wo, wi);
+    let coat = m.coat_weight(wo.z);
+    ((l.diffuse * FRAC_1_PI + l.specular) * m.base_weight(wo.z) + Vec3::splat(l.coat * coat))
+        * m.scale
 }
 
 /// The solid-angle pdf with which [`sample`] produces `wi` from its non-delta lobes, lobe
@@ -274,42 +380,75 @@ pub fn pdf(p: &SurfaceParams, wo: Vec3, wi: Vec3) -> f32 {
         return 0.0;
     }
     let m = Material::new(p);
-    let (p_specular, p_diffuse) = m.lobe_probabilities(wo.z);
-    combined_pdf(&m, wo, wi, p_specular, p_diffuse)
+    combined_pdf(&m, wo, wi, m.lobe_probabilities(wo.z))
 }
 
-fn combined_pdf(m: &Material, wo: Vec3, wi: Vec3, p_specular: f32, p_diffuse: f32) -> f32 {
-    let specular = if p_specular > 0.0 {
-        p_specular * specular_pdf(m, wo, wi)
-    } else {
-        0.0
-    };
-    p_diffuse * (wi.z * FRAC_1_PI) + specular
+/// The pdf of the glossy lobes (specular and coat, selection included), without the diffuse.
+fn glossy_lobes_pdf(m: &Material, wo: Vec3, wi: Vec3, p: LobeProbabilities) -> f32 {
+    let mut pdf = 0.0;
+    if p.specular > 0.0 {
+        pdf += p.specular * glossy_pdf(m.mirror, m.alpha, wo, wi);
+    }
+    if p.coat > 0.0 {
+        pdf += p.coat * glossy_pdf(m.coat_mirror, m.coat_alpha, wo, wi);
+    }
+    pdf
 }
 
-/// Draws an incident direction for the view `wo` (local frame): `u_lobe` picks the lobe (specular
-/// when below [`specular_probability`]), `u` drives that lobe's warp. `None` when wo.z <= 0, when
-/// the material reflects nothing (both lobes zero), or when the direction drawn is at or below the
-/// horizon (the visible-normal reflection can point below it; that probability mass is simply
-/// lost, and [`pdf`] does not count it).
+fn combined_pdf(m: &Material, wo: Vec3, wi: Vec3, p: LobeProbabilities) -> f32 {
+    p.diffuse * (wi.z * FRAC_1_PI) + glossy_lobes_pdf(m, wo, wi, p)
+}
+
+/// The sample of the mirror direction, when a delta lobe (the base's specular or the coat) is
+/// picked: both deltas point the same way, so the sample carries both, over their summed
+/// selection probability.
+fn mirror_sample(m: &Material, wo: Vec3, p: LobeProbabilities) -> BrdfSample {
+    let coat = m.coat_weight(wo.z);
+    let (mut weight, mut pdf) = (Vec3::ZERO, 0.0);
+    if m.mirror && p.specular > 0.0 {
+        weight += m.fresnel(wo.z).specular * m.base_weight(wo.z);
+        pdf += p.specular;
+    }
+    if m.coat_mirror && p.coat > 0.0 {
+        weight += Vec3::splat(coat);
+        pdf += p.coat;
+    }
+    BrdfSample {
+        wi: Vec3::new(-wo.x, -wo.y, wo.z),
+        weight: weight * m.scale / pdf,
+        pdf,
+        delta: true,
+    }
+}
+
+/// Draws an incident direction for the view `wo` (local frame): `u_lobe` picks the lobe (the
+/// coat below its probability, then the specular lobe below [`specular_probability`] more),
+/// `u` drives that lobe's warp. `None` when wo.z <= 0, when the material reflects nothing, or
+/// when the direction drawn is at or below the horizon (the visible-normal reflection can point
+/// below it; that probability mass is simply lost, and [`pdf`] does not count it).
 pub fn sample(p: &SurfaceParams, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BrdfSample> {
     if wo.z <= 0.0 {
         return None;
     }
     let m = Material::new(p);
-    let (p_specular, p_diffuse) = m.lobe_probabilities(wo.z);
-    if p_specular <= 0.0 && p_diffuse <= 0.0 {
+    let probabilities = m.lobe_probabilities(wo.z);
+    let LobeProbabilities {
+        coat: p_coat,
+        specular: p_specular,
+        diffuse: p_diffuse,
+    } = probabilities;
+    if p_coat <= 0.0 && p_specular <= 0.0 && p_diffuse <= 0.0 {
         return None;
     }
-    let wi = if u_lobe < p_specular {
+    let wi = if u_lobe < p_coat {
+        if m.coat_mirror {
+            return Some(mirror_sample(&m, wo, probabilities));
+        }
+        let h = ggx::sample_vndf(wo, m.coat_alpha, u);
+        2.0 * wo.dot(h) * h - wo
+    } else if u_lobe - p_coat < p_specular {
         if m.mirror {
-            let wi = Vec3::new(-wo.x, -wo.y, wo.z);
-            return Some(BrdfSample {
-                wi,
-                weight: m.fresnel(wo.z).specular * m.scale / p_specular,
-                pdf: p_specular,
-                delta: true,
-            });
+            return Some(mirror_sample(&m, wo, probabilities));
         }
         let h = ggx::sample_vndf(wo, m.alpha, u);
         2.0 * wo.dot(h) * h - wo
@@ -319,15 +458,18 @@ pub fn sample(p: &SurfaceParams, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BrdfS
     if wi.z <= 0.0 {
         return None;
     }
-    let pdf = combined_pdf(&m, wo, wi, p_specular, p_diffuse);
+    let pdf = combined_pdf(&m, wo, wi, probabilities);
     if pdf.is_nan() || pdf <= 0.0 {
         return None;
     }
     // weight = f cos / pdf, divided through by cos / pi so that it stays finite as wi.z -> 0 and
     // is exactly the diffuse albedo for a purely diffuse material.
-    let (diffuse, specular) = lobes(&m, wo, wi);
-    let numerator = (diffuse + specular * PI) * m.scale;
-    let denominator = p_diffuse + p_specular * specular_pdf(&m, wo, wi) * PI / wi.z;
+    let l = lobes(&m, wo, wi);
+    let coat = m.coat_weight(wo.z);
+    let numerator = ((l.diffuse + l.specular * PI) * m.base_weight(wo.z)
+        + Vec3::splat(l.coat * coat * PI))
+        * m.scale;
+    let denominator = p_diffuse + glossy_lobes_pdf(&m, wo, wi, probabilities) * PI / wi.z;
     Some(BrdfSample {
         wi,
         weight: numerator / denominator,

@@ -175,12 +175,12 @@ pub struct GpuMaterial {
     pub flags: u32,
     /// KHR_materials_specular's factor (1 without the extension).
     pub specular: f32,
-    /// Padding, zero.
-    pub pad0: u32,
+    /// KHR_materials_clearcoat's factor (0: no coat).
+    pub clearcoat: f32,
     /// KHR_materials_specular's colour factor (1 without the extension).
     pub specular_color: [f32; 3],
-    /// Padding, zero.
-    pub pad1: u32,
+    /// The clear coat's roughness.
+    pub clearcoat_roughness: f32,
     /// Base colour texture.
     pub base_color_texture: GpuTextureSlot,
     /// Metallic (B) and roughness (G) texture.

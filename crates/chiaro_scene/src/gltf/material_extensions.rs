@@ -1,35 +1,23 @@
-//! Material extensions read from a material's `extensions` JSON: KHR_materials_specular.
-//! Each factor is checked against its range; a value outside it is repaired with a line that
-//! says so, never trusted.
+//! Material extensions read from a material's `extensions` JSON: KHR_materials_specular and
+//! KHR_materials_clearcoat. Each factor is checked against its range; a value outside it is
+//! repaired with a line that says so, never trusted. Their textures are not read yet: a file
+//! that names one gets a repair line saying that the factor alone is used.
 
 use glam::Vec3;
+use serde_json::Value;
 
 use crate::gltf::materials::MaterialImporter;
 use crate::material::Material;
 
 impl MaterialImporter<'_> {
     /// KHR_materials_specular: `specularFactor` in [0, 1] (default 1) and `specularColorFactor`,
-    /// three finite values of at least 0 (default 1). Its textures are not read: a repair line
-    /// says the factor alone is used.
+    /// three finite values of at least 0 (default 1).
     pub(super) fn read_specular(&mut self, element: &str, m: &gltf::Material, out: &mut Material) {
         let Some(ext) = m.extension_value("KHR_materials_specular") else {
             return;
         };
-        if let Some(value) = ext.get("specularFactor") {
-            match value.as_f64() {
-                Some(f) if (0.0..=1.0).contains(&f) => out.specular = f as f32,
-                Some(f) if f.is_finite() => {
-                    self.repair(
-                        element.into(),
-                        format!("specular factor {f} clamped to [0, 1]"),
-                    );
-                    out.specular = f.clamp(0.0, 1.0) as f32;
-                }
-                _ => self.repair(
-                    element.into(),
-                    format!("specular factor {value} is not a number: 1 used"),
-                ),
-            }
+        if let Some(f) = self.unit_factor(element, ext, "specularFactor", "specular factor") {
+            out.specular = f;
         }
         if let Some(value) = ext.get("specularColorFactor") {
             let channels: Option<Vec<f64>> = value
@@ -46,13 +34,70 @@ impl MaterialImporter<'_> {
                 ),
             }
         }
-        for texture in ["specularTexture", "specularColorTexture"] {
-            if ext.get(texture).is_some() {
+        self.textures_not_read(
+            element,
+            ext,
+            "KHR_materials_specular",
+            &["specularTexture", "specularColorTexture"],
+        );
+    }
+
+    /// KHR_materials_clearcoat: `clearcoatFactor` and `clearcoatRoughnessFactor`, each in
+    /// [0, 1] (default 0). The coat shares the material's shading normal.
+    pub(super) fn read_clearcoat(&mut self, element: &str, m: &gltf::Material, out: &mut Material) {
+        let Some(ext) = m.extension_value("KHR_materials_clearcoat") else {
+            return;
+        };
+        if let Some(f) = self.unit_factor(element, ext, "clearcoatFactor", "clear coat factor") {
+            out.clearcoat = f;
+        }
+        if let Some(f) = self.unit_factor(
+            element,
+            ext,
+            "clearcoatRoughnessFactor",
+            "clear coat roughness",
+        ) {
+            out.clearcoat_roughness = f;
+        }
+        self.textures_not_read(
+            element,
+            ext,
+            "KHR_materials_clearcoat",
+            &[
+                "clearcoatTexture",
+                "clearcoatRoughnessTexture",
+                "clearcoatNormalTexture",
+            ],
+        );
+    }
+
+    /// The number `field` of `ext` in [0, 1]: a finite number outside is clamped, anything
+    /// else is ignored (the default stays), each with a repair line. None when absent.
+    fn unit_factor(&mut self, element: &str, ext: &Value, field: &str, name: &str) -> Option<f32> {
+        let value = ext.get(field)?;
+        match value.as_f64() {
+            Some(f) if (0.0..=1.0).contains(&f) => Some(f as f32),
+            Some(f) if f.is_finite() => {
+                self.repair(element.into(), format!("{name} {f} clamped to [0, 1]"));
+                Some(f.clamp(0.0, 1.0) as f32)
+            }
+            _ => {
                 self.repair(
                     element.into(),
-                    format!(
-                        "KHR_materials_specular's {texture} is not read: its factor alone is used"
-                    ),
+                    format!("{name} {value} is not a number: the default is used"),
+                );
+                None
+            }
+        }
+    }
+
+    /// One repair line per texture of `extension` that the file names and chiaro does not read.
+    fn textures_not_read(&mut self, element: &str, ext: &Value, extension: &str, names: &[&str]) {
+        for texture in names {
+            if ext.get(*texture).is_some() {
+                self.repair(
+                    element.into(),
+                    format!("{extension}'s {texture} is not read: its factor alone is used"),
                 );
             }
         }

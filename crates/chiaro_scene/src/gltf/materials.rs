@@ -182,6 +182,7 @@ impl<'a> MaterialImporter<'a> {
             emissive_slot.and_then(|s| self.slot(&element, "emissive", s, ColorSpace::Srgb));
         material.absorption = self.absorption(&element, m);
         self.read_specular(&element, m, &mut material);
+        self.read_clearcoat(&element, m, &mut material);
         self.sanitize_factors(&element, &mut material);
         if material.alpha_mode == AlphaMode::Blend {
             self.repair(element, "alpha mode BLEND is rendered as opaque".into());

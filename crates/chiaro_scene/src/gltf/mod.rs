@@ -31,9 +31,10 @@ use crate::load::LoadOptions;
 use crate::scene_builder::SceneBuilder;
 
 /// Extensions chiaro reads; a file that requires any other is refused.
-pub const SUPPORTED_EXTENSIONS: [&str; 6] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 7] = [
     "EXT_mesh_gpu_instancing",
     "KHR_lights_punctual",
+    "KHR_materials_clearcoat",
     "KHR_materials_emissive_strength",
     "KHR_materials_ior",
     "KHR_materials_specular",

@@ -143,15 +143,20 @@ fn expected_counts(grid: &Grid, pdf_params: &SurfaceParams, wo: Vec3, n: usize) 
     // Rejections: the specular lobe's VNDF reflections below the horizon. Integrating that mass
     // directly is far more accurate than one minus the bins' total when it is tiny.
     let rules = (GaussLegendre::new(96), GaussLegendre::new(48));
-    let alpha = ggx::alpha_from_roughness(pdf_params.roughness);
-    let above = half_vector_quadrature(
-        Quadrature::VisibleAboveHorizon,
-        alpha,
-        wo.z,
-        &rules.0,
-        &rules.1,
-    );
-    let lost = specular_probability(pdf_params, wo) as f64 * (1.0 - above).max(0.0);
+    let above = |roughness: f32| {
+        half_vector_quadrature(
+            Quadrature::VisibleAboveHorizon,
+            ggx::alpha_from_roughness(roughness),
+            wo.z,
+            &rules.0,
+            &rules.1,
+        )
+    };
+    let probabilities = Material::new(pdf_params).lobe_probabilities(wo.z);
+    let mut lost = probabilities.specular as f64 * (1.0 - above(pdf_params.roughness)).max(0.0);
+    if probabilities.coat > 0.0 {
+        lost += probabilities.coat as f64 * (1.0 - above(pdf_params.clearcoat_roughness)).max(0.0);
+    }
     assert!(
         (total + lost - 1.0).abs() < 1e-3,
         "bins {total} + rejections {lost} != 1"
@@ -194,11 +199,20 @@ fn materials(roughness: f32) -> [(&'static str, SurfaceParams); 2] {
     [("metal", metal), ("plastic", plastic)]
 }
 
-/// Runs the test for a metal and a plastic (both lobes) of this roughness, for views from the
-/// normal to grazing (cos 0.05).
+/// Runs the test for a metal, a plastic (both lobes) and a clear-coated plastic of this
+/// roughness, for views from the normal to grazing (cos 0.05).
 fn check_roughness(roughness: f32, n: usize) {
     let mut failures = Vec::new();
-    for (name, params) in materials(roughness) {
+    // A clear coat of another roughness over the plastic: three lobes.
+    let coated = SurfaceParams {
+        clearcoat: 1.0,
+        clearcoat_roughness: 0.2,
+        ..materials(roughness)[1].1
+    };
+    for (name, params) in materials(roughness)
+        .into_iter()
+        .chain([("coated plastic", coated)])
+    {
         for (k, mu) in [1.0f32, 0.7, 0.3, 0.05].into_iter().enumerate() {
             let wo = view(mu);
             let grid = Grid::new(wo, ggx::alpha_from_roughness(roughness) as f64);

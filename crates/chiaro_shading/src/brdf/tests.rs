@@ -43,6 +43,9 @@ pub(super) fn random_params(rng: &mut Pcg32) -> SurfaceParams {
     let specular = pick(&[0.0, 1.0]);
     let base_color = Vec3::new(pick(&[0.0, 1.0]), pick(&[0.0, 1.0]), pick(&[0.0, 1.0]));
     let specular_color = Vec3::new(pick(&[0.0, 1.0]), pick(&[1.0]), pick(&[0.0, 30.0]));
+    // Half the materials have no coat at all.
+    let clearcoat = pick(&[0.0, 1.0]) * f32::from(u8::from(pick(&[0.0, 1.0]) >= 0.5));
+    let clearcoat_roughness = pick(&[0.0, 1.0, MIRROR_ALPHA.sqrt() * 1.001, 0.05]);
     SurfaceParams {
         base_color,
         metallic,
@@ -50,6 +53,8 @@ pub(super) fn random_params(rng: &mut Pcg32) -> SurfaceParams {
         f0_dielectric,
         specular,
         specular_color,
+        clearcoat,
+        clearcoat_roughness,
         absorption,
     }
 }
@@ -238,6 +243,7 @@ fn specular_lobe_never_reflects_more_than_it_receives() {
     let mut rng = Pcg32::new(31, 41);
     for case in 0..24 {
         let mut p = random_params(&mut rng);
+        p.clearcoat = 0.0;
         if case % 2 == 0 {
             p.metallic = 1.0;
         } else {
@@ -277,12 +283,18 @@ fn metals_and_lambertian_bases_never_reflect_more_than_they_receive() {
     }
 }
 
-/// Helmholtz reciprocity: f(wo, wi) = f(wi, wo) (up to rounding), for random materials.
+/// Helmholtz reciprocity: f(wo, wi) = f(wi, wo) (up to rounding), for random materials without
+/// a clear coat.
 #[test]
 fn eval_is_reciprocal() {
     let mut rng = Pcg32::new(13, 13);
     for _ in 0..100_000 {
-        let p = random_params(&mut rng);
+        // The coat's blend, clearcoat F_c(n.wo), depends on the view alone (the extension's
+        // fresnel_coat): coated materials are not reciprocal, by definition.
+        let p = SurfaceParams {
+            clearcoat: 0.0,
+            ..random_params(&mut rng)
+        };
         let wo = uniform_hemisphere(rng.next_vec2());
         let wi = uniform_hemisphere(rng.next_vec2());
         let a = eval(&p, wo, wi);
@@ -311,12 +323,22 @@ fn sample_agrees_with_eval_and_pdf() {
         assert!(s.wi.z > 0.0 && (s.wi.length() - 1.0).abs() < 1e-4, "{s:?}");
         if s.delta {
             delta += 1;
-            assert!(p.roughness * p.roughness < MIRROR_ALPHA);
-            assert!((s.wi - Vec3::new(-wo.x, -wo.y, wo.z)).length() < 1e-6);
-            let sp = specular_probability(&p, wo);
-            assert_eq!(s.pdf, sp);
             let m = Material::new(&p);
-            let expected = m.fresnel(wo.z).specular * m.scale / sp;
+            assert!(m.mirror || m.coat_mirror);
+            assert!((s.wi - Vec3::new(-wo.x, -wo.y, wo.z)).length() < 1e-6);
+            // Every delta lobe points the same way: the sample carries all of them.
+            let probabilities = m.lobe_probabilities(wo.z);
+            let (mut expected, mut sp) = (Vec3::ZERO, 0.0);
+            if m.mirror {
+                expected += m.fresnel(wo.z).specular * m.base_weight(wo.z);
+                sp += probabilities.specular;
+            }
+            if m.coat_mirror {
+                expected += Vec3::splat(m.coat_weight(wo.z));
+                sp += probabilities.coat;
+            }
+            assert_eq!(s.pdf, sp);
+            let expected = expected * m.scale / sp;
             assert!(
                 (s.weight - expected).abs().max_element() < 1e-5 * expected.max_element().max(1.0)
             );
@@ -429,6 +451,8 @@ fn parameters_are_clamped() {
         f0_dielectric: 3.0,
         specular: 4.0,
         specular_color: Vec3::new(-1.0, 2.0, 0.5),
+        clearcoat: 3.0,
+        clearcoat_roughness: -1.0,
         absorption: -2.0,
     };
     let tame = SurfaceParams {
@@ -438,6 +462,8 @@ fn parameters_are_clamped() {
         f0_dielectric: 1.0,
         specular: 1.0,
         specular_color: Vec3::new(0.0, 1.0, 0.5),
+        clearcoat: 1.0,
+        clearcoat_roughness: 0.0,
         absorption: 0.0,
     };
     assert_eq!(eval(&wild, wo, wi), eval(&tame, wo, wi));

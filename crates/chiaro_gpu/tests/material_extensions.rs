@@ -1,0 +1,95 @@
+//! Material extensions on the GPU against the CPU reference: a clear-coated sphere (a rough coat
+//! and a mirror coat over coloured bases) and a KHR_materials_specular sphere (tinted, half
+//! strength) under a white sky. The GPU reference mode must agree with the CPU reference within
+//! three times the two images' combined noise (relMSE over the spheres' pixels), and the
+//! realtime frame within 0.05 (its denoiser blurs). The clearcoat pipeline feature is on only
+//! for this scene: the coat code is compiled in when a used material has one.
+
+mod common;
+mod hard_cases_common;
+
+use bevy_ecs::prelude::World;
+use chiaro_gpu::{FrameSettings, RenderMode, Renderer};
+use chiaro_reference::PathSettings;
+use chiaro_scene::builtin::shapes::icosphere;
+use chiaro_scene::{Material, SceneBuilder, SceneFeatures, Transform};
+use common::masked_rel_mse;
+use glam::Vec3;
+use hard_cases_common::{cpu_reference, erode, mode, settings};
+
+fn spheres() -> World {
+    let mut b = SceneBuilder::new("material extensions");
+    let mesh = b
+        .add_mesh("mesh", "sphere", icosphere(4, false))
+        .unwrap()
+        .unwrap();
+    let rough_coat = Material {
+        clearcoat: 1.0,
+        clearcoat_roughness: 0.3,
+        ..Material::diffuse("rough coat", Vec3::new(0.8, 0.1, 0.1), 0.6)
+    };
+    let mirror_coat = Material {
+        clearcoat: 0.8,
+        clearcoat_roughness: 0.0,
+        metallic: 1.0,
+        ..Material::diffuse("mirror coat", Vec3::new(0.9, 0.7, 0.3), 0.5)
+    };
+    let specular = Material {
+        specular: 0.5,
+        specular_color: Vec3::new(2.0, 1.0, 0.5),
+        ..Material::diffuse("tinted specular", Vec3::new(0.2, 0.4, 0.8), 0.3)
+    };
+    for (x, material) in [(-1.1, rough_coat), (0.0, mirror_coat), (1.1, specular)] {
+        let id = b.add_material(material);
+        b.add_instance(
+            "sphere",
+            mesh,
+            id,
+            Transform::from_translation(Vec3::new(x, 0.0, 0.0)).with_scale(Vec3::splat(0.5)),
+        );
+    }
+    common::spawn_under_white_sky(b, Vec3::new(0.0, 0.6, 4.0))
+}
+
+#[test]
+fn coats_and_specular_tints_match_the_cpu_reference() {
+    let Some(gpu) = common::gpu() else { return };
+    let size = 48;
+    let mut world = spheres();
+    let cpu = cpu_reference(&mut world, size, 256, PathSettings::default());
+    let mut renderer = Renderer::new(gpu);
+    let reference = FrameSettings {
+        spp: 4,
+        ..mode(RenderMode::Reference)
+    };
+    let a = renderer
+        .render(&mut world, &settings(size, 48, 1, reference))
+        .unwrap();
+    let g = renderer.read_gbuffer().unwrap();
+    let features = *world.resource::<SceneFeatures>();
+    assert!(features.clearcoat, "the scene's features: {features:?}");
+    let b = renderer
+        .render(&mut world, &settings(size, 48, 2, reference))
+        .unwrap();
+    let covered: Vec<bool> = g.instance.iter().map(|i| i.is_some()).collect();
+    let mask = erode(&covered, size as usize);
+    let cpu_noise = masked_rel_mse(&cpu.halves[0], &cpu.halves[1], &mask) / 4.0;
+    let gpu_noise = masked_rel_mse(&a.hdr, &b.hdr, &mask) / 2.0;
+    let error = masked_rel_mse(&a.hdr, &cpu.image, &mask);
+    let bound = 3.0 * (cpu_noise + gpu_noise);
+    eprintln!(
+        "reference mode: relMSE {error:.3e} against the CPU, bound {bound:.3e} (noise: GPU \
+         {gpu_noise:.3e}, CPU {cpu_noise:.3e})"
+    );
+    assert!(error < bound, "reference mode: relMSE {error} > {bound}");
+
+    let realtime = renderer
+        .render(
+            &mut world,
+            &settings(size, 32, 1, mode(RenderMode::Realtime)),
+        )
+        .unwrap();
+    let error = masked_rel_mse(&realtime.hdr, &cpu.image, &mask);
+    eprintln!("realtime: relMSE {error:.3e} against the CPU");
+    assert!(error < 0.05, "realtime: relMSE {error}");
+}
