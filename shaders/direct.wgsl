@@ -67,7 +67,7 @@ fn brdf_light(s: Shading, numbers: vec3<f32>, first: ptr<function, vec4<u32>>) -
         return vec3<f32>(0.0);
     }
     let wi = frame_to_world(s.frame, bs.wi);
-    if !above_surface(s, wi) {
+    if !on_its_side(s, wi, bs.wi.z) {
         return vec3<f32>(0.0);
     }
     let hit = trace_closest(leaving_ray(s, wi), f32_infinity());

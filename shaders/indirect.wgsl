@@ -108,19 +108,25 @@ fn brdf_scatter(s: Shading, numbers: vec3<f32>) -> Scatter {
     out.weight = bs.weight;
     out.pdf = bs.pdf;
     out.delta = bs.delta;
-    out.valid = bs.valid && above_surface(s, out.wi);
+    out.valid = bs.valid && on_its_side(s, out.wi, bs.wi.z);
     return out;
 }
 
-// The next direction from s, uniform over the hemisphere of its shading normal (naive mode).
+// The next direction from s, uniform over the hemisphere of its shading normal (naive mode),
+// or over the whole sphere for a transmissive surface.
 fn uniform_scatter(s: Shading, rng: ptr<function, Pcg32>) -> Scatter {
     var out: Scatter;
-    let wi = uniform_hemisphere(pcg32_next_vec2(rng));
-    out.wi = frame_to_world(s.frame, wi);
-    out.weight = brdf_eval(s.params, s.wo, wi) * (wi.z / UNIFORM_HEMISPHERE_PDF);
+    let u = pcg32_next_vec2(rng);
+    var wi = uniform_hemisphere(u);
     out.pdf = UNIFORM_HEMISPHERE_PDF;
+    if FEATURE_TRANSMISSION && s.params.transmission > 0.0 {
+        wi = uniform_sphere(u);
+        out.pdf = 0.5 * UNIFORM_HEMISPHERE_PDF;
+    }
+    out.wi = frame_to_world(s.frame, wi);
+    out.weight = brdf_eval(s.params, s.wo, wi) * (abs(wi.z) / out.pdf);
     out.delta = false;
-    out.valid = above_surface(s, out.wi);
+    out.valid = on_its_side(s, out.wi, wi.z);
     return out;
 }
 

@@ -37,6 +37,7 @@ struct SurfaceParams {
     specular_color: vec3<f32>,
     clearcoat: f32,
     clearcoat_roughness: f32,
+    transmission: f32,
     absorption: f32,
 }
 
@@ -62,6 +63,7 @@ struct BrdfMaterial {
     clearcoat: f32,
     coat_alpha: f32,
     coat_mirror: bool,
+    transmission: f32,
 }
 
 // ((ior - 1) / (ior + 1))^2; negative IORs count as 0.
@@ -99,6 +101,10 @@ fn brdf_material(p: SurfaceParams) -> BrdfMaterial {
         m.coat_alpha = alpha_from_roughness(p.clearcoat_roughness);
         m.coat_mirror = m.coat_alpha < MIRROR_ALPHA;
     }
+    m.transmission = 0.0;
+    if FEATURE_TRANSMISSION {
+        m.transmission = clamp(p.transmission, 0.0, 1.0);
+    }
     return m;
 }
 
@@ -107,6 +113,7 @@ fn brdf_material(p: SurfaceParams) -> BrdfMaterial {
 struct FresnelWeights {
     specular: vec3<f32>,
     diffuse: vec3<f32>,
+    transmission: vec3<f32>,
 }
 
 fn brdf_fresnel(m: BrdfMaterial, cos_theta: f32) -> FresnelWeights {
@@ -115,8 +122,10 @@ fn brdf_fresnel(m: BrdfMaterial, cos_theta: f32) -> FresnelWeights {
     let dielectric_weight = 1.0 - m.metallic;
     let dielectric_max = max(max(dielectric.x, dielectric.y), dielectric.z);
     var w: FresnelWeights;
+    let beneath = m.base * (dielectric_weight * (1.0 - m.specular * dielectric_max));
     w.specular = dielectric * (dielectric_weight * m.specular) + metal * m.metallic;
-    w.diffuse = m.base * (dielectric_weight * (1.0 - m.specular * dielectric_max));
+    w.diffuse = beneath * (1.0 - m.transmission);
+    w.transmission = beneath * m.transmission;
     return w;
 }
 
@@ -152,23 +161,25 @@ fn brdf_split(a: f32, b: f32) -> f32 {
     return clamp(a / (a + b), MIN_LOBE_PROBABILITY, 1.0 - MIN_LOBE_PROBABILITY);
 }
 
-// Selection probabilities for this view: (coat, specular, diffuse), all 0 when nothing
-// reflects.
-fn brdf_lobe_probabilities(m: BrdfMaterial, wo_z: f32) -> vec3<f32> {
+// Selection probabilities for this view: (coat, specular, diffuse, transmission), all 0 when
+// nothing reflects or transmits.
+fn brdf_lobe_probabilities(m: BrdfMaterial, wo_z: f32) -> vec4<f32> {
     let weights = brdf_fresnel(m, wo_z);
     let specular = luminance(weights.specular);
-    let diffuse = luminance(weights.diffuse);
+    let diffuse = luminance(weights.diffuse + weights.transmission);
     let coat = brdf_coat_weight(m, wo_z);
     let p_coat = brdf_split(coat, brdf_base_weight(m, wo_z) * (specular + diffuse));
     if p_coat < 0.0 {
-        return vec3<f32>(0.0);
+        return vec4<f32>(0.0);
     }
     let p_specular = brdf_split(specular, diffuse);
     if p_specular < 0.0 {
-        return vec3<f32>(1.0, 0.0, 0.0);
+        return vec4<f32>(1.0, 0.0, 0.0, 0.0);
     }
     let p_base = 1.0 - p_coat;
-    return vec3<f32>(p_coat, p_base * p_specular, p_base * (1.0 - p_specular));
+    let beneath = p_base * (1.0 - p_specular);
+    return vec4<f32>(p_coat, p_base * p_specular, beneath * (1.0 - m.transmission),
+        beneath * m.transmission);
 }
 
 // The unit half vector of two directions above the surface, scaled by the largest component
@@ -224,12 +235,16 @@ fn specular_probability(p: SurfaceParams, wo: vec3<f32>) -> f32 {
     return brdf_lobe_probabilities(brdf_material(p), wo.z).y;
 }
 
-// f(wo, wi) without the cosine; 0 when wo.z <= 0 or wi.z <= 0.
+// f(wo, wi) without the cosine: reflection for wi.z > 0, transmission for wi.z < 0; 0 when
+// wo.z <= 0 or wi.z = 0.
 fn brdf_eval(p: SurfaceParams, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
-    if wo.z <= 0.0 || wi.z <= 0.0 {
+    if wo.z <= 0.0 || wi.z == 0.0 || f32_is_nan(wi.z) {
         return vec3<f32>(0.0);
     }
     let m = brdf_material(p);
+    if wi.z < 0.0 {
+        return brdf_transmission_eval(m, wo, wi);
+    }
     let l = brdf_lobes(m, wo, wi);
     let coat = brdf_coat_weight(m, wo.z);
     return ((l.diffuse * INV_PI + l.specular) * brdf_base_weight(m, wo.z) + vec3<f32>(l.coat * coat))
@@ -237,7 +252,7 @@ fn brdf_eval(p: SurfaceParams, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
 }
 
 // The glossy lobes' pdf (specular and coat, selection included).
-fn brdf_glossy_lobes_pdf(m: BrdfMaterial, wo: vec3<f32>, wi: vec3<f32>, probabilities: vec3<f32>) -> f32 {
+fn brdf_glossy_lobes_pdf(m: BrdfMaterial, wo: vec3<f32>, wi: vec3<f32>, probabilities: vec4<f32>) -> f32 {
     var pdf = 0.0;
     if probabilities.y > 0.0 {
         pdf += probabilities.y * brdf_glossy_pdf(m.mirror, m.alpha, wo, wi);
@@ -248,22 +263,51 @@ fn brdf_glossy_lobes_pdf(m: BrdfMaterial, wo: vec3<f32>, wi: vec3<f32>, probabil
     return pdf;
 }
 
-fn brdf_combined_pdf(m: BrdfMaterial, wo: vec3<f32>, wi: vec3<f32>, probabilities: vec3<f32>) -> f32 {
+fn brdf_combined_pdf(m: BrdfMaterial, wo: vec3<f32>, wi: vec3<f32>, probabilities: vec4<f32>) -> f32 {
     return probabilities.z * (wi.z * INV_PI) + brdf_glossy_lobes_pdf(m, wo, wi, probabilities);
 }
 
-// The solid-angle pdf with which brdf_sample draws wi from its non-delta lobes.
+// The solid-angle pdf with which brdf_sample draws wi from its non-delta lobes (for
+// wi.z < 0, the transmission lobe's).
 fn brdf_pdf(p: SurfaceParams, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
-    if wo.z <= 0.0 || wi.z <= 0.0 {
+    if wo.z <= 0.0 || wi.z == 0.0 || f32_is_nan(wi.z) {
         return 0.0;
     }
     let m = brdf_material(p);
-    return brdf_combined_pdf(m, wo, wi, brdf_lobe_probabilities(m, wo.z));
+    let probabilities = brdf_lobe_probabilities(m, wo.z);
+    if wi.z < 0.0 {
+        return brdf_transmission_pdf(m, wo, wi, probabilities);
+    }
+    return brdf_combined_pdf(m, wo, wi, probabilities);
+}
+
+// KHR_materials_transmission's thin-walled lobe (chiaro_shading::brdf::transmission): the
+// reflection lobe turned through the surface, wi mirrored to the upper side.
+fn brdf_mirrored(w: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(w.x, w.y, -w.z);
+}
+
+fn brdf_transmission_eval(m: BrdfMaterial, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
+    if !FEATURE_TRANSMISSION || m.transmission <= 0.0 || m.mirror {
+        return vec3<f32>(0.0);
+    }
+    let up = brdf_mirrored(wi);
+    let h = brdf_half_vector(wo, up);
+    let lobe = ndf(h, m.alpha) * visibility(wo, up, m.alpha);
+    return brdf_fresnel(m, dot(h, up)).transmission * (lobe * brdf_base_weight(m, wo.z) * m.scale);
+}
+
+fn brdf_transmission_pdf(m: BrdfMaterial, wo: vec3<f32>, wi: vec3<f32>, probabilities: vec4<f32>) -> f32 {
+    if !FEATURE_TRANSMISSION || probabilities.w <= 0.0 || m.mirror {
+        return 0.0;
+    }
+    let up = brdf_mirrored(wi);
+    return probabilities.w * reflected_vndf_pdf(wo, brdf_half_vector(wo, up), m.alpha);
 }
 
 // The mirror direction's sample: every delta lobe (the base's specular, the coat) points the
 // same way, so it carries all of them over their summed selection probability.
-fn brdf_mirror_sample(m: BrdfMaterial, wo: vec3<f32>, probabilities: vec3<f32>) -> BrdfSample {
+fn brdf_mirror_sample(m: BrdfMaterial, wo: vec3<f32>, probabilities: vec4<f32>) -> BrdfSample {
     let coat = brdf_coat_weight(m, wo.z);
     var weight = vec3<f32>(0.0);
     var pdf = 0.0;
@@ -299,22 +343,49 @@ fn brdf_sample(p: SurfaceParams, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>) -> Br
     let p_coat = probabilities.x;
     let p_specular = probabilities.y;
     let p_diffuse = probabilities.z;
-    if p_coat <= 0.0 && p_specular <= 0.0 && p_diffuse <= 0.0 {
+    let p_transmission = probabilities.w;
+    if p_coat <= 0.0 && p_specular <= 0.0 && p_diffuse <= 0.0 && p_transmission <= 0.0 {
+        return s;
+    }
+    let coat_lobe = u_lobe < p_coat;
+    let specular_lobe = !coat_lobe && u_lobe - p_coat < p_specular;
+    let transmission_lobe = FEATURE_TRANSMISSION && !coat_lobe && !specular_lobe
+        && u_lobe - p_coat - p_specular < p_transmission;
+    if transmission_lobe && m.mirror {
+        // A smooth thin-walled surface transmits straight through: a delta along -wo.
+        s.wi = -wo;
+        s.weight = brdf_fresnel(m, wo.z).transmission * brdf_base_weight(m, wo.z) * m.scale
+            / p_transmission;
+        s.pdf = p_transmission;
+        s.delta = true;
+        s.valid = true;
         return s;
     }
     var wi: vec3<f32>;
-    let coat_lobe = u_lobe < p_coat;
-    if coat_lobe || u_lobe - p_coat < p_specular {
-        if (coat_lobe && m.coat_mirror) || (!coat_lobe && m.mirror) {
+    if coat_lobe || specular_lobe || transmission_lobe {
+        if (coat_lobe && m.coat_mirror) || (specular_lobe && m.mirror) {
             return brdf_mirror_sample(m, wo, probabilities);
         }
-        // One VNDF call for both glossy lobes (lavapipe runs every arm of a branch).
+        // One VNDF call for the glossy lobes (lavapipe runs every arm of a branch).
         let h = sample_vndf(wo, select(m.alpha, m.coat_alpha, coat_lobe), u);
         wi = 2.0 * dot(wo, h) * h - wo;
     } else {
         wi = cosine_hemisphere(u);
     }
     if wi.z <= 0.0 {
+        return s;
+    }
+    if transmission_lobe {
+        // The reflection's sample mirrored through the surface.
+        let through = brdf_mirrored(wi);
+        let pdf = brdf_transmission_pdf(m, wo, through, probabilities);
+        if f32_is_nan(pdf) || pdf <= 0.0 {
+            return s;
+        }
+        s.wi = through;
+        s.weight = brdf_transmission_eval(m, wo, through) * (wi.z / pdf);
+        s.pdf = pdf;
+        s.valid = true;
         return s;
     }
     let pdf = brdf_combined_pdf(m, wo, wi, probabilities);

@@ -70,12 +70,8 @@ fn environment_seen(dir: vec3<f32>) -> vec3<f32> {
 
 // Whether nothing blocks the segment from the shading point toward wi (distance may be inf).
 fn unoccluded(s: Shading, wi: vec3<f32>, distance: f32) -> bool {
-    var ray: Ray;
-    ray.origin = offset_ray_origin(s.position, s.geometric_normal);
-    ray.direction = wi;
-    ray.t_min = 0.0;
     let t_max = select(f32_infinity(), distance * SHADOW_RAY_REACH, f32_is_finite(distance));
-    return !trace_any(ray, t_max);
+    return !trace_any(leaving_ray(s, wi), t_max);
 }
 
 // f cos Li of a light sample before its shadow ray, and the BRDF pdf of its direction in w;
@@ -85,10 +81,10 @@ fn light_unoccluded_value(s: Shading, ls: LightSample) -> vec4<f32> {
         return vec4<f32>(0.0);
     }
     let wi = frame_to_local(s.frame, ls.wi);
-    if wi.z <= 0.0 || !above_surface(s, ls.wi) || all(ls.radiance == vec3<f32>(0.0)) {
+    if !on_its_side(s, ls.wi, wi.z) || all(ls.radiance == vec3<f32>(0.0)) {
         return vec4<f32>(0.0);
     }
-    let f = brdf_eval(s.params, s.wo, wi) * wi.z;
+    let f = brdf_eval(s.params, s.wo, wi) * abs(wi.z);
     if all(f == vec3<f32>(0.0)) {
         return vec4<f32>(0.0);
     }

@@ -82,7 +82,7 @@ fn gbuffer_shading(g: GbufferSurface, camera: GpuCamera) -> Shading {
     s.wo = frame_to_local(s.frame, to_eye);
     s.params = SurfaceParams(g.base_color, g.metallic, g.roughness, material.f0_dielectric,
         material.specular, material.specular_color, material.clearcoat,
-        material.clearcoat_roughness, material.absorption);
+        material.clearcoat_roughness, material.transmission, material.absorption);
     return s;
 }
 
@@ -130,15 +130,20 @@ fn surface_at_hit(direction: vec3<f32>, hit: Hit) -> SurfaceHit {
         clamp(material.metallic * metallic_roughness.z, 0.0, 1.0),
         clamp(material.roughness * metallic_roughness.y, 0.0, 1.0), material.f0_dielectric,
         material.specular, material.specular_color, material.clearcoat,
-        material.clearcoat_roughness, material.absorption);
+        material.clearcoat_roughness, material.transmission, material.absorption);
     return SurfaceHit(s, normals.shades);
 }
 
-// The shading-normal rule (chiaro_reference's above_surface): a world direction at or below
-// the geometric surface (its normal turned towards the viewer) carries nothing, whatever the
-// shading normal says: a BRDF sample there ends the path, a light sample there counts zero.
-fn above_surface(s: Shading, wi: vec3<f32>) -> bool {
-    return dot(wi, s.geometric_normal) > 0.0;
+// The shading-normal rule (chiaro_reference's on_its_side): a reflected direction (local_z
+// > 0) must leave on the side the geometric normal (turned towards the viewer) faces, a
+// transmitted one (local_z < 0) on the other; on the wrong side it carries nothing, whatever
+// the shading normal says: a BSDF sample there ends the path, a light sample counts zero.
+fn on_its_side(s: Shading, wi: vec3<f32>, local_z: f32) -> bool {
+    let geometric = dot(wi, s.geometric_normal);
+    if local_z > 0.0 {
+        return geometric > 0.0;
+    }
+    return local_z < 0.0 && geometric < 0.0;
 }
 
 // A ray leaving the shading point along the world direction wi, its origin offset to the side

@@ -70,9 +70,12 @@ impl PipelineFeatures {
     pub const VERTEX_COLORS: Self = Self(1 << 12);
     /// A clear coat (KHR_materials_clearcoat) is evaluated and sampled in the BRDF.
     pub const CLEARCOAT: Self = Self(1 << 13);
+    /// Transmissive materials (KHR_materials_transmission): their lobe is evaluated and
+    /// sampled, and rays and light samples pass through them.
+    pub const TRANSMISSION: Self = Self(1 << 14);
 
     /// Every flag, in bit order.
-    pub const FLAGS: [FeatureFlag; 14] = [
+    pub const FLAGS: [FeatureFlag; 15] = [
         flag(
             Self::BASE_COLOR_TEXTURES,
             "FEATURE_BASE_COLOR_TEXTURES",
@@ -131,6 +134,11 @@ impl PipelineFeatures {
             "FEATURE_CLEARCOAT",
             "clear-coated materials",
         ),
+        flag(
+            Self::TRANSMISSION,
+            "FEATURE_TRANSMISSION",
+            "transmissive materials",
+        ),
     ];
 
     /// No feature.
@@ -156,6 +164,7 @@ impl PipelineFeatures {
         add(features.alpha_masks, Self::ALPHA_MASKS);
         add(features.vertex_colors, Self::VERTEX_COLORS);
         add(features.clearcoat, Self::CLEARCOAT);
+        add(features.transmission, Self::TRANSMISSION);
         add(features.point_lights, Self::POINT_LIGHTS);
         add(features.spot_lights, Self::SPOT_LIGHTS);
         add(features.directional_lights, Self::DIRECTIONAL_LIGHTS);

@@ -74,7 +74,8 @@ struct BrdfInput {
     specular: f32,
     clearcoat: f32,
     clearcoat_roughness: f32,
-    pad: [f32; 2],
+    transmission: f32,
+    pad: f32,
 }
 
 #[repr(C)]
@@ -108,6 +109,7 @@ struct BrdfInput {
     specular: f32,
     clearcoat: f32,
     clearcoat_roughness: f32,
+    transmission: f32,
 }
 
 struct BrdfOutput {
@@ -131,7 +133,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let x = inputs[i];
     let p = SurfaceParams(x.base_color, x.metallic, x.roughness, x.f0_dielectric, x.specular,
-        x.specular_color, x.clearcoat, x.clearcoat_roughness, x.absorption);
+        x.specular_color, x.clearcoat, x.clearcoat_roughness, x.transmission, x.absorption);
     var o: BrdfOutput;
     o.eval = brdf_eval(p, x.wo, x.wi);
     o.pdf = brdf_pdf(p, x.wo, x.wi);
@@ -195,6 +197,8 @@ fn random_params(rng: &mut Pcg32) -> SurfaceParams {
     // Half the materials have no coat.
     let clearcoat = pick(&[0.0, 1.0]) * f32::from(u8::from(pick(&[0.0, 1.0]) >= 0.5));
     let clearcoat_roughness = pick(&[0.0, 1.0, MIRROR_ALPHA.sqrt() * 1.001, 0.05]);
+    // Half the materials transmit nothing.
+    let transmission = pick(&[0.0, 1.0]) * f32::from(u8::from(pick(&[0.0, 1.0]) >= 0.5));
     SurfaceParams {
         base_color,
         metallic,
@@ -204,6 +208,7 @@ fn random_params(rng: &mut Pcg32) -> SurfaceParams {
         specular_color,
         clearcoat,
         clearcoat_roughness,
+        transmission,
         absorption,
     }
 }
@@ -241,7 +246,8 @@ fn random_input(rng: &mut Pcg32) -> BrdfInput {
         specular: p.specular,
         clearcoat: p.clearcoat,
         clearcoat_roughness: p.clearcoat_roughness,
-        pad: [0.0; 2],
+        transmission: p.transmission,
+        pad: 0.0,
     }
 }
 
@@ -255,6 +261,7 @@ fn params(x: &BrdfInput) -> SurfaceParams {
         specular_color: Vec3::from_array(x.specular_color),
         clearcoat: x.clearcoat,
         clearcoat_roughness: x.clearcoat_roughness,
+        transmission: x.transmission,
         absorption: x.absorption,
     }
 }
@@ -379,10 +386,19 @@ fn check(x: &BrdfInput, g: &BrdfOutput, worst: &mut Worst) -> Result<(), String>
         Some(s) => valid && s.delta == delta,
     };
     let near_boundary = |s: Option<brdf::BrdfSample>| {
-        let horizon = s.is_some_and(|s| s.wi.z < HORIZON_TOL) || (valid && g.wi[2] < HORIZON_TOL);
-        let lobe = (x.u_lobe - sp).abs() < 1e-6;
+        let horizon =
+            s.is_some_and(|s| s.wi.z.abs() < HORIZON_TOL) || (valid && g.wi[2].abs() < HORIZON_TOL);
+        // The boundaries between lobes: the running sums of their probabilities, in the
+        // order sample compares u_lobe against them.
+        let l = brdf::lobe_probabilities(&p, wo);
+        let bounds = [
+            l.coat,
+            l.coat + l.specular,
+            l.coat + l.specular + l.transmission,
+        ];
+        let lobe = bounds.iter().any(|b| (x.u_lobe - b).abs() < 1e-6);
         // A None from a direction below the horizon: the GPU's direction is near it too.
-        let none_at_horizon = s.is_none() && valid && g.wi[2] < HORIZON_TOL;
+        let none_at_horizon = s.is_none() && valid && g.wi[2].abs() < HORIZON_TOL;
         horizon || lobe || none_at_horizon
     };
     if !same_outcome {
@@ -398,7 +414,7 @@ fn check(x: &BrdfInput, g: &BrdfOutput, worst: &mut Worst) -> Result<(), String>
     };
     let gwi = Vec3::from_array(g.wi);
     // At the horizon z is the square root of a rounding difference (see HORIZON_TOL).
-    let dz_tol = if s.wi.z < HORIZON_TOL {
+    let dz_tol = if s.wi.z.abs() < HORIZON_TOL {
         HORIZON_TOL
     } else {
         DIR_TOL
@@ -443,12 +459,12 @@ fn check(x: &BrdfInput, g: &BrdfOutput, worst: &mut Worst) -> Result<(), String>
         pdf > 0.0,
         "the GPU drew {gwi}, where the CPU's pdf is 0, for {x:?}"
     );
-    let e = relative_error3(g.weight, f * gwi.z / pdf);
+    let e = relative_error3(g.weight, f * gwi.z.abs() / pdf);
     ensure!(
         e <= REL_EVAL,
         "weight {:?} vs the CPU's f cos / pdf {} at the GPU's {gwi} ({e}) for {x:?}",
         g.weight,
-        f * gwi.z / pdf
+        f * gwi.z.abs() / pdf
     );
     worst.weight_at_gpu_direction = worst.weight_at_gpu_direction.max(e);
     let e = relative_error(g.sample_pdf, pdf);
@@ -458,7 +474,7 @@ fn check(x: &BrdfInput, g: &BrdfOutput, worst: &mut Worst) -> Result<(), String>
         g.sample_pdf
     );
     worst.pdf_at_gpu_direction = worst.pdf_at_gpu_direction.max(e);
-    if s.wi.z < HORIZON_TOL {
+    if s.wi.z.abs() < HORIZON_TOL {
         // There the weight and pdf depend on z, which is the square root of a rounding error.
         return Ok(());
     }

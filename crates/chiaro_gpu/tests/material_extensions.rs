@@ -1,6 +1,6 @@
-//! Material extensions on the GPU against the CPU reference: a clear-coated sphere (a rough coat
-//! and a mirror coat over coloured bases) and a KHR_materials_specular sphere (tinted, half
-//! strength) under a white sky. The GPU reference mode must agree with the CPU reference within
+//! Material extensions on the GPU against the CPU reference: clear-coated spheres (a rough coat
+//! and a mirror coat over coloured bases), a KHR_materials_specular sphere (tinted, half
+//! strength) and a thin-walled transmissive one (KHR_materials_transmission) under a white sky. The GPU reference mode must agree with the CPU reference within
 //! three times the two images' combined noise (relMSE over the spheres' pixels), and the
 //! realtime frame within 0.05 (its denoiser blurs). The clearcoat pipeline feature is on only
 //! for this scene: the coat code is compiled in when a used material has one.
@@ -39,7 +39,16 @@ fn spheres() -> World {
         specular_color: Vec3::new(2.0, 1.0, 0.5),
         ..Material::diffuse("tinted specular", Vec3::new(0.2, 0.4, 0.8), 0.3)
     };
-    for (x, material) in [(-1.1, rough_coat), (0.0, mirror_coat), (1.1, specular)] {
+    let glass = Material {
+        transmission: 0.9,
+        ..Material::diffuse("rough glass", Vec3::new(0.9, 0.95, 1.0), 0.25)
+    };
+    for (x, material) in [
+        (-1.65, rough_coat),
+        (-0.55, mirror_coat),
+        (0.55, specular),
+        (1.65, glass),
+    ] {
         let id = b.add_material(material);
         b.add_instance(
             "sphere",
@@ -48,11 +57,11 @@ fn spheres() -> World {
             Transform::from_translation(Vec3::new(x, 0.0, 0.0)).with_scale(Vec3::splat(0.5)),
         );
     }
-    common::spawn_under_white_sky(b, Vec3::new(0.0, 0.6, 4.0))
+    common::spawn_under_white_sky(b, Vec3::new(0.0, 0.8, 5.5))
 }
 
 #[test]
-fn coats_and_specular_tints_match_the_cpu_reference() {
+fn coats_specular_tints_and_glass_match_the_cpu_reference() {
     let Some(gpu) = common::gpu() else { return };
     let size = 48;
     let mut world = spheres();
@@ -67,7 +76,10 @@ fn coats_and_specular_tints_match_the_cpu_reference() {
         .unwrap();
     let g = renderer.read_gbuffer().unwrap();
     let features = *world.resource::<SceneFeatures>();
-    assert!(features.clearcoat, "the scene's features: {features:?}");
+    assert!(
+        features.clearcoat && features.transmission,
+        "the scene's features: {features:?}"
+    );
     let b = renderer
         .render(&mut world, &settings(size, 48, 2, reference))
         .unwrap();
@@ -92,4 +104,52 @@ fn coats_and_specular_tints_match_the_cpu_reference() {
     let error = masked_rel_mse(&realtime.hdr, &cpu.image, &mask);
     eprintln!("realtime: relMSE {error:.3e} against the CPU");
     assert!(error < 0.05, "realtime: relMSE {error}");
+}
+
+/// A clear, smooth, thin-walled pane filling the view under a white sky of radiance 1: what it
+/// does not reflect (F) it passes straight through (1 - F), so every pixel's exact value is 1,
+/// in the CPU reference and every GPU mode (mean within 1%).
+#[test]
+fn a_clear_pane_under_a_white_sky_reads_one() {
+    let mut b = SceneBuilder::new("clear pane");
+    let pane = b.add_material(Material {
+        transmission: 1.0,
+        ..Material::diffuse("pane", Vec3::ONE, 0.0)
+    });
+    let mesh = b
+        .add_mesh("mesh", "pane", chiaro_scene::builtin::shapes::floor(50.0))
+        .unwrap()
+        .unwrap();
+    b.add_instance(
+        "pane",
+        mesh,
+        pane,
+        Transform::IDENTITY.with_rotation(glam::Quat::from_rotation_x(std::f32::consts::FRAC_PI_2)),
+    );
+    let mut world = common::spawn_under_white_sky(b, Vec3::new(0.3, 0.4, 3.0));
+    let mean = |image: &[Vec3]| {
+        image
+            .iter()
+            .map(|p| f64::from(p.x + p.y + p.z))
+            .sum::<f64>()
+            / (3 * image.len()) as f64
+    };
+    let cpu = cpu_reference(&mut world, 16, 64, PathSettings::default());
+    eprintln!("CPU reference: mean {:.4}", mean(&cpu.image));
+    assert!((mean(&cpu.image) - 1.0).abs() < 0.01);
+    let Some(gpu) = common::gpu() else { return };
+    let mut renderer = Renderer::new(gpu);
+    for frame in [
+        FrameSettings {
+            spp: 4,
+            ..mode(RenderMode::Reference)
+        },
+        mode(RenderMode::Realtime),
+    ] {
+        let out = renderer
+            .render(&mut world, &settings(16, 16, 1, frame))
+            .unwrap();
+        eprintln!("{:?}: mean {:.4}", frame.mode, mean(&out.hdr));
+        assert!((mean(&out.hdr) - 1.0).abs() < 0.01, "{:?}", frame.mode);
+    }
 }

@@ -5,7 +5,8 @@
 //!   all-features frame and every frame with one more flag than the scene needs are the same
 //!   image with the same seed: relMSE at most [`ROUNDING`].
 //! - On a Cornell box given every feature (textures of each kind, a normal-mapped panel, an
-//!   alpha-masked block, vertex colours on the panel, point, spot and directional lights, an environment image, an
+//!   alpha-masked block, vertex colours on the panel, a clear-coated left wall, a transmissive
+//!   right wall, point, spot and directional lights, an environment image, an
 //!   emitting short block, whose triangles with the light's are enough for a light tree), the
 //!   pipeline for exactly the scene's features renders the all-features image, and turning any
 //!   one flag off changes the image (relMSE above [`MISSING`]).
@@ -182,6 +183,14 @@ fn cornell_with_every_feature() -> World {
         m.metallic_roughness_texture = Some(metal_rough);
     });
     edit_material(&mut world, "light", |m| m.emissive_texture = Some(emissive));
+    edit_material(&mut world, "left wall", |m| {
+        m.clearcoat = 1.0;
+        m.clearcoat_roughness = 0.1;
+    });
+    edit_material(&mut world, "right wall", |m| {
+        m.roughness = 0.3;
+        m.transmission = 0.8;
+    });
     mask_tall_block(&mut world);
     edit_material(&mut world, "short block", |m| {
         m.emissive = Vec3::new(0.2, 0.1, 0.05);

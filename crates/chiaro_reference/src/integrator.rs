@@ -132,13 +132,27 @@ fn sample_light(scene: &RenderScene, entry: &LightEntry, p: Vec3, u: Vec2) -> Op
     }
 }
 
-/// The shading-normal rule: light arrives at and leaves a reflecting surface only on the side
-/// its geometric normal (turned towards the viewer) faces. A world direction `wi` at or below
-/// that surface carries nothing, whatever the shading normal says (as Cycles does): a BRDF
-/// sample there ends the path instead of passing through the surface, and a light sample there
-/// counts zero.
-fn above_surface(si: &SurfaceHit, wi: Vec3) -> bool {
-    wi.dot(si.geometric_normal) > 0.0
+/// The shading-normal rule: a direction the BSDF reflects (above the shading normal, `local_z`
+/// > 0) must leave on the side the geometric normal (turned towards the viewer) faces, and a
+/// transmitted one (`local_z` < 0) on the other. A world direction `wi` on the wrong side
+/// carries nothing, whatever the shading normal says (as Cycles does): a BSDF sample there ends
+/// the path instead of crossing the surface, and a light sample there counts zero.
+fn on_its_side(si: &SurfaceHit, wi: Vec3, local_z: f32) -> bool {
+    let geometric = wi.dot(si.geometric_normal);
+    if local_z > 0.0 {
+        geometric > 0.0
+    } else {
+        local_z < 0.0 && geometric < 0.0
+    }
+}
+
+/// The origin of a ray leaving `si` along `wi`, offset to the side `wi` goes.
+fn leaving_origin(si: &SurfaceHit, wi: Vec3) -> Vec3 {
+    if wi.dot(si.geometric_normal) >= 0.0 {
+        offset_ray_origin(si.position, si.geometric_normal)
+    } else {
+        offset_ray_origin(si.position, -si.geometric_normal)
+    }
 }
 
 /// Next-event estimate at `si`: one light picked by power, sampled, tested for visibility.
@@ -151,15 +165,15 @@ fn direct_light(scene: &RenderScene, si: &SurfaceHit, wo: Vec3, rng: &mut Pcg32)
         return Vec3::ZERO;
     };
     let wi = si.frame.to_local(ls.wi);
-    if wi.z <= 0.0 || !above_surface(si, ls.wi) || ls.radiance == Vec3::ZERO {
+    if !on_its_side(si, ls.wi, wi.z) || ls.radiance == Vec3::ZERO {
         return Vec3::ZERO;
     }
-    let f = brdf::eval(&si.params, wo, wi) * wi.z;
+    let f = brdf::eval(&si.params, wo, wi) * wi.z.abs();
     if f == Vec3::ZERO {
         return Vec3::ZERO;
     }
     let shadow = Ray {
-        origin: offset_ray_origin(si.position, si.geometric_normal),
+        origin: leaving_origin(si, ls.wi),
         direction: ls.wi,
         t_min: 0.0,
         t_max: if ls.distance.is_finite() {
@@ -235,9 +249,9 @@ pub fn radiance(
             break;
         };
         let wi = si.frame.to_world(sample.wi);
-        // A direction above the shading normal but below the geometric surface carries
-        // nothing (the shading-normal rule): going on through the surface would leak light.
-        if !above_surface(&si, wi) {
+        // A direction on the wrong side of the geometric surface carries nothing (the
+        // shading-normal rule): crossing the surface there would leak light.
+        if !on_its_side(&si, wi, sample.wi.z) {
             break;
         }
         throughput *= sample.weight;
@@ -245,7 +259,7 @@ pub fn radiance(
             break;
         }
         ray = Ray {
-            origin: offset_ray_origin(si.position, si.geometric_normal),
+            origin: leaving_origin(&si, wi),
             direction: wi,
             t_min: 0.0,
             t_max: f32::INFINITY,

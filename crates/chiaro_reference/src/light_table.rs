@@ -121,7 +121,11 @@ impl LightTable {
             if radiance <= 0.0 {
                 continue;
             }
-            let sides = if material.double_sided { 2.0 } else { 1.0 };
+            let sides = if material.shades_both_sides() {
+                2.0
+            } else {
+                1.0
+            };
             for triangle in 0..mesh.triangle_count() as u32 {
                 let vertices = world_triangle(mesh, triangle, &record.world);
                 triangles.insert((index as u32, triangle), lights.len());
@@ -130,13 +134,13 @@ impl LightTable {
                 extents.push(Some(LightBounds::triangle(
                     vertices,
                     power,
-                    material.double_sided,
+                    material.shades_both_sides(),
                 )));
                 lights.push(LightEntry::Triangle {
                     instance: index as u32,
                     triangle,
                     vertices,
-                    two_sided: material.double_sided,
+                    two_sided: material.shades_both_sides(),
                 });
             }
         }

@@ -177,7 +177,7 @@ pub fn surface_at(scene: &RenderScene, ray: &Ray, hit: &Hit) -> SurfaceHit {
     if shading_normal.dot(-ray.direction) <= 0.0 {
         shading_normal = geometric_normal;
     }
-    let shades = front_facing || material.double_sided;
+    let shades = front_facing || material.shades_both_sides();
 
     let base = base_color_at(scene, material, mesh, hit.triangle, b, uvs);
     let metallic_roughness = sample(&material.metallic_roughness_texture);
@@ -190,6 +190,7 @@ pub fn surface_at(scene: &RenderScene, ray: &Ray, hit: &Hit) -> SurfaceHit {
         specular_color: material.specular_color,
         clearcoat: material.clearcoat,
         clearcoat_roughness: material.clearcoat_roughness,
+        transmission: material.transmission,
         absorption: material.absorption,
     };
     let emission = if shades {

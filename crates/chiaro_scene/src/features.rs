@@ -47,6 +47,8 @@ pub struct SceneFeatures {
     pub vertex_colors: bool,
     /// Some used material has a clear coat (KHR_materials_clearcoat).
     pub clearcoat: bool,
+    /// Some used material transmits light (KHR_materials_transmission).
+    pub transmission: bool,
     /// Some used material is double-sided.
     pub double_sided: bool,
     /// The scene has a point light of non-zero intensity.
@@ -118,6 +120,7 @@ impl SceneFeatures {
         self.second_uv_set |= m.texture_slots().any(|(_, t)| t.uv_set == 1);
         self.alpha_masks |= matches!(m.alpha_mode, AlphaMode::Mask { .. });
         self.clearcoat |= m.clearcoat > 0.0;
+        self.transmission |= m.transmission > 0.0;
         self.double_sided |= m.double_sided;
         self.emissive_triangles |= m.is_emissive();
     }
@@ -141,6 +144,7 @@ impl SceneFeatures {
             (self.alpha_masks, "alpha masks"),
             (self.vertex_colors, "vertex colours"),
             (self.clearcoat, "clear coats"),
+            (self.transmission, "transmission"),
             (self.double_sided, "double-sided materials"),
             (self.point_lights, "point lights"),
             (self.spot_lights, "spot lights"),

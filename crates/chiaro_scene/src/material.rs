@@ -115,6 +115,10 @@ pub struct Material {
     pub clearcoat: f32,
     /// KHR_materials_clearcoat's clearcoatRoughnessFactor in [0, 1] (0 when absent).
     pub clearcoat_roughness: f32,
+    /// KHR_materials_transmission's transmissionFactor in [0, 1] (0 when absent): the share of
+    /// the dielectric's diffuse base transmitted through the surface, which is thin-walled.
+    /// A transmissive surface shades both faces ([`Material::shades_both_sides`]).
+    pub transmission: f32,
     /// The notes' energy absorption factor in [0, 1]: the BRDF is scaled by (1 - absorption).
     /// Read from the material's glTF `extras` as `{"absorption": x}`; 0 when absent.
     pub absorption: f32,
@@ -143,6 +147,7 @@ impl Default for Material {
             specular_color: Vec3::ONE,
             clearcoat: 0.0,
             clearcoat_roughness: 0.0,
+            transmission: 0.0,
             absorption: 0.0,
         }
     }
@@ -186,6 +191,12 @@ impl Material {
     /// Emitted radiance without texture: emissive factor times strength.
     pub fn emitted_radiance(&self) -> Vec3 {
         self.emissive * self.emissive_strength
+    }
+
+    /// True when both faces of the surface shade (reflect, transmit and emit): a double-sided
+    /// material, or a transmissive one, whose back face light reaches through the front.
+    pub fn shades_both_sides(&self) -> bool {
+        self.double_sided || self.transmission > 0.0
     }
 
     /// True when the material can emit light.

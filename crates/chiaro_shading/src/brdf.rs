@@ -105,6 +105,9 @@ pub struct SurfaceParams {
     pub clearcoat: f32,
     /// The clear coat's perceptual roughness (its GGX alpha is its square); clamped to [0, 1].
     pub clearcoat_roughness: f32,
+    /// KHR_materials_transmission's factor: the share of the dielectric's diffuse base that is
+    /// transmitted through the (thin-walled) surface instead; clamped to [0, 1].
+    pub transmission: f32,
     /// Fraction of energy absorbed: f is scaled by (1 - absorption). Clamped to [0, 1].
     pub absorption: f32,
 }
@@ -121,6 +124,7 @@ impl Default for SurfaceParams {
             specular_color: Vec3::ONE,
             clearcoat: 0.0,
             clearcoat_roughness: 0.0,
+            transmission: 0.0,
             absorption: 0.0,
         }
     }
@@ -129,15 +133,16 @@ impl Default for SurfaceParams {
 /// A direction drawn by [`sample`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BrdfSample {
-    /// The incident direction, local frame, wi.z > 0.
+    /// The incident direction, local frame: wi.z > 0 reflected, wi.z < 0 transmitted.
     pub wi: Vec3,
-    /// The throughput multiplier: f cos / pdf for non-delta samples; for the mirror lobe, its
-    /// Fresnel weight times (1 - absorption) over its selection probability.
+    /// The throughput multiplier: f |cos| / pdf for non-delta samples; for a delta lobe, its
+    /// weight times (1 - absorption) over its selection probability.
     pub weight: Vec3,
-    /// The solid-angle pdf of `wi` over both non-delta lobes ([`pdf`]); for the mirror lobe, its
+    /// The solid-angle pdf of `wi` over the non-delta lobes ([`pdf`]); for a delta lobe, its
     /// selection probability.
     pub pdf: f32,
-    /// True for the perfect mirror lobe (alpha below [`MIRROR_ALPHA`]).
+    /// True for a delta lobe: the mirror reflection, or the straight-through transmission of a
+    /// smooth thin-walled surface (alpha below [`MIRROR_ALPHA`]).
     pub delta: bool,
 }
 
@@ -170,22 +175,45 @@ struct Material {
     coat_alpha: f32,
     /// The coat's alpha is below [`MIRROR_ALPHA`]: its lobe is a delta.
     coat_mirror: bool,
+    /// KHR_materials_transmission's factor.
+    transmission: f32,
 }
 
-/// The Fresnel weights of the two lobes at one cosine: the specular lobe's colour and the
-/// diffuse lobe's colour (base colour included).
+/// The Fresnel weights of the lobes at one cosine: the specular lobe's colour, the diffuse
+/// lobe's and the transmission lobe's (base colour included).
 struct FresnelWeights {
     specular: Vec3,
     diffuse: Vec3,
+    transmission: Vec3,
 }
 
-/// The probabilities with which [`sample`] picks each lobe for one view: all 0 when the material
-/// reflects nothing, otherwise summing to 1.
-#[derive(Clone, Copy, Debug)]
-struct LobeProbabilities {
-    coat: f32,
-    specular: f32,
-    diffuse: f32,
+/// The probabilities with which [`sample`] picks each lobe for one view ([`lobe_probabilities`]):
+/// all 0 when the material reflects nothing, otherwise summing to 1. [`sample`] compares its
+/// `u_lobe` against them in this order.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LobeProbabilities {
+    /// The clear coat's.
+    pub coat: f32,
+    /// The base's specular lobe's.
+    pub specular: f32,
+    /// The diffuse lobe's.
+    pub diffuse: f32,
+    /// The transmission lobe's.
+    pub transmission: f32,
+}
+
+/// The probabilities with which [`sample`] picks each lobe for the view `wo` (all 0 when
+/// wo.z <= 0).
+pub fn lobe_probabilities(p: &SurfaceParams, wo: Vec3) -> LobeProbabilities {
+    if wo.z <= 0.0 {
+        return LobeProbabilities {
+            coat: 0.0,
+            specular: 0.0,
+            diffuse: 0.0,
+            transmission: 0.0,
+        };
+    }
+    Material::new(p).lobe_probabilities(wo.z)
 }
 
 impl Material {
@@ -205,20 +233,24 @@ impl Material {
             clearcoat: p.clearcoat.clamp(0.0, 1.0),
             coat_alpha,
             coat_mirror: coat_alpha < MIRROR_ALPHA,
+            transmission: p.transmission.clamp(0.0, 1.0),
         }
     }
 
     /// The lobes' Fresnel weights at `cos` (h.wi for evaluation, n.wo for estimates):
-    /// specular (1 - metallic) specular F_d + metallic F_m, diffuse
-    /// (1 - metallic) (1 - specular max(F_d)) base_color.
+    /// specular (1 - metallic) specular F_d + metallic F_m; beneath it
+    /// (1 - metallic) (1 - specular max(F_d)) base_color, split into diffuse (1 - transmission)
+    /// and transmission.
     fn fresnel(&self, cos: f32) -> FresnelWeights {
         let dielectric = fresnel_schlick(self.f0_dielectric, cos);
         let metal = fresnel_schlick(self.base, cos);
         let dielectric_weight = 1.0 - self.metallic;
+        let beneath =
+            self.base * (dielectric_weight * (1.0 - self.specular * dielectric.max_element()));
         FresnelWeights {
             specular: dielectric * (dielectric_weight * self.specular) + metal * self.metallic,
-            diffuse: self.base
-                * (dielectric_weight * (1.0 - self.specular * dielectric.max_element())),
+            diffuse: beneath * (1.0 - self.transmission),
+            transmission: beneath * self.transmission,
         }
     }
 
@@ -251,7 +283,7 @@ impl Material {
     fn lobe_probabilities(&self, wo_z: f32) -> LobeProbabilities {
         let weights = self.fresnel(wo_z);
         let specular = luminance(weights.specular);
-        let diffuse = luminance(weights.diffuse);
+        let diffuse = luminance(weights.diffuse + weights.transmission);
         let coat = self.coat_weight(wo_z);
         let base = self.base_weight(wo_z) * (specular + diffuse);
         let p_coat = split(coat, base);
@@ -261,6 +293,7 @@ impl Material {
                 coat: 0.0,
                 specular: 0.0,
                 diffuse: 0.0,
+                transmission: 0.0,
             };
         }
         let p_base = 1.0 - p_coat;
@@ -269,12 +302,17 @@ impl Material {
                 coat: 1.0,
                 specular: 0.0,
                 diffuse: 0.0,
+                transmission: 0.0,
             };
         }
+        // Beneath the specular layer the diffuse and transmission weights differ only by
+        // (1 - transmission) against transmission.
+        let beneath = p_base * (1.0 - p_specular);
         LobeProbabilities {
             coat: p_coat,
             specular: p_base * p_specular,
-            diffuse: p_base * (1.0 - p_specular),
+            diffuse: beneath * (1.0 - self.transmission),
+            transmission: beneath * self.transmission,
         }
     }
 }
@@ -360,13 +398,18 @@ pub fn specular_probability(p: &SurfaceParams, wo: Vec3) -> f32 {
     Material::new(p).lobe_probabilities(wo.z).specular
 }
 
-/// The BRDF value f(wo, wi) (no cosine), for unit local directions; zero when wo.z <= 0 or
-/// wi.z <= 0. A specular lobe or coat with alpha below [`MIRROR_ALPHA`] is a delta, left out.
+/// The BSDF value f(wo, wi) (no cosine), for unit local directions: the reflection lobes for
+/// wi.z > 0, the transmission lobe for wi.z < 0 (zero without KHR_materials_transmission);
+/// zero when wo.z <= 0 or wi.z = 0. A lobe with alpha below [`MIRROR_ALPHA`] is a delta, left
+/// out.
 pub fn eval(p: &SurfaceParams, wo: Vec3, wi: Vec3) -> Vec3 {
-    if wo.z <= 0.0 || wi.z <= 0.0 {
+    if wo.z <= 0.0 || wi.z == 0.0 || wi.z.is_nan() {
         return Vec3::ZERO;
     }
     let m = Material::new(p);
+    if wi.z < 0.0 {
+        return m.transmission_eval(wo, wi);
+    }
     let l = lobes(&m, wo, wi);
     let coat = m.coat_weight(wo.z);
     ((l.diffuse * FRAC_1_PI + l.specular) * m.base_weight(wo.z) + Vec3::splat(l.coat * coat))
@@ -374,13 +417,18 @@ pub fn eval(p: &SurfaceParams, wo: Vec3, wi: Vec3) -> Vec3 {
 }
 
 /// The solid-angle pdf with which [`sample`] produces `wi` from its non-delta lobes, lobe
-/// selection probabilities included; zero when wo.z <= 0 or wi.z <= 0.
+/// selection probabilities included (for wi.z < 0, the transmission lobe's); zero when
+/// wo.z <= 0 or wi.z = 0.
 pub fn pdf(p: &SurfaceParams, wo: Vec3, wi: Vec3) -> f32 {
-    if wo.z <= 0.0 || wi.z <= 0.0 {
+    if wo.z <= 0.0 || wi.z == 0.0 || wi.z.is_nan() {
         return 0.0;
     }
     let m = Material::new(p);
-    combined_pdf(&m, wo, wi, m.lobe_probabilities(wo.z))
+    let probabilities = m.lobe_probabilities(wo.z);
+    if wi.z < 0.0 {
+        return m.transmission_pdf(wo, wi, probabilities);
+    }
+    combined_pdf(&m, wo, wi, probabilities)
 }
 
 /// The pdf of the glossy lobes (specular and coat, selection included), without the diffuse.
@@ -422,8 +470,9 @@ fn mirror_sample(m: &Material, wo: Vec3, p: LobeProbabilities) -> BrdfSample {
 }
 
 /// Draws an incident direction for the view `wo` (local frame): `u_lobe` picks the lobe (the
-/// coat below its probability, then the specular lobe below [`specular_probability`] more),
-/// `u` drives that lobe's warp. `None` when wo.z <= 0, when the material reflects nothing, or
+/// coat below its probability, then the specular lobe below [`specular_probability`] more, then
+/// the transmission lobe, then the diffuse one), `u` drives that lobe's warp. A transmitted
+/// direction has wi.z < 0. `None` when wo.z <= 0, when the material reflects nothing, or
 /// when the direction drawn is at or below the horizon (the visible-normal reflection can point
 /// below it; that probability mass is simply lost, and [`pdf`] does not count it).
 pub fn sample(p: &SurfaceParams, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BrdfSample> {
@@ -436,8 +485,9 @@ pub fn sample(p: &SurfaceParams, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BrdfS
         coat: p_coat,
         specular: p_specular,
         diffuse: p_diffuse,
+        transmission: p_transmission,
     } = probabilities;
-    if p_coat <= 0.0 && p_specular <= 0.0 && p_diffuse <= 0.0 {
+    if p_coat <= 0.0 && p_specular <= 0.0 && p_diffuse <= 0.0 && p_transmission <= 0.0 {
         return None;
     }
     let wi = if u_lobe < p_coat {
@@ -452,6 +502,8 @@ pub fn sample(p: &SurfaceParams, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BrdfS
         }
         let h = ggx::sample_vndf(wo, m.alpha, u);
         2.0 * wo.dot(h) * h - wo
+    } else if u_lobe - p_coat - p_specular < p_transmission {
+        return m.transmission_sample(wo, u, probabilities);
     } else {
         cosine_hemisphere(u)
     };
@@ -477,6 +529,8 @@ pub fn sample(p: &SurfaceParams, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BrdfS
         delta: false,
     })
 }
+
+mod transmission;
 
 #[cfg(test)]
 mod chi2_tests;

@@ -124,11 +124,15 @@ pub fn material(m: &Material) -> GpuMaterial {
         f0_dielectric: m.dielectric_f0(),
         absorption: m.absorption,
         normal_scale: m.normal_scale,
-        flags: mask | bit(m.double_sided, MATERIAL_DOUBLE_SIDED),
+        flags: mask | bit(m.shades_both_sides(), MATERIAL_DOUBLE_SIDED),
         specular: m.specular,
         clearcoat: m.clearcoat,
         specular_color: m.specular_color.to_array(),
         clearcoat_roughness: m.clearcoat_roughness,
+        transmission: m.transmission,
+        pad0: 0,
+        pad1: 0,
+        pad2: 0,
         base_color_texture: slot(&m.base_color_texture),
         metallic_roughness_texture: slot(&m.metallic_roughness_texture),
         normal_texture: slot(&m.normal_texture),
@@ -297,7 +301,11 @@ pub fn area_lights(
             continue;
         }
         first[index] = entries.len() as u32;
-        let sides = if material.double_sided { 2.0 } else { 1.0 };
+        let sides = if material.shades_both_sides() {
+            2.0
+        } else {
+            1.0
+        };
         let mirrored = record.world.matrix3.determinant() < 0.0;
         for triangle in 0..mesh.triangle_count() as u32 {
             let v = bvh
@@ -311,7 +319,11 @@ pub fn area_lights(
                 ..GpuAreaLight::default()
             });
             powers.push(f64::from(power));
-            bounds.push(LightBounds::triangle(v, power, material.double_sided));
+            bounds.push(LightBounds::triangle(
+                v,
+                power,
+                material.shades_both_sides(),
+            ));
         }
     }
     let radius = scene_radius(bvh);

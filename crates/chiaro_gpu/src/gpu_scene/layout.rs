@@ -181,6 +181,14 @@ pub struct GpuMaterial {
     pub specular_color: [f32; 3],
     /// The clear coat's roughness.
     pub clearcoat_roughness: f32,
+    /// KHR_materials_transmission's factor (0: opaque).
+    pub transmission: f32,
+    /// Padding, zero.
+    pub pad0: u32,
+    /// Padding, zero.
+    pub pad1: u32,
+    /// Padding, zero.
+    pub pad2: u32,
     /// Base colour texture.
     pub base_color_texture: GpuTextureSlot,
     /// Metallic (B) and roughness (G) texture.
@@ -340,7 +348,7 @@ mod tests {
     #[test]
     fn sizes_are_multiples_of_their_alignment() {
         assert_eq!(size_of::<GpuVertex>(), 64);
-        assert_eq!(size_of::<GpuMaterial>(), 272);
+        assert_eq!(size_of::<GpuMaterial>(), 288);
         assert_eq!(size_of::<GpuLight>(), 64);
         assert_eq!(size_of::<GpuInstanceExtra>(), 64);
         assert_eq!(size_of::<GpuSceneInfo>(), 64);

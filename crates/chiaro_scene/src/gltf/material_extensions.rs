@@ -1,5 +1,6 @@
-//! Material extensions read from a material's `extensions` JSON: KHR_materials_specular and
-//! KHR_materials_clearcoat. Each factor is checked against its range; a value outside it is
+//! Material extensions read from a material's `extensions` JSON: KHR_materials_specular,
+//! KHR_materials_clearcoat and KHR_materials_transmission (thin-walled: a
+//! KHR_materials_volume that would make it a volume is reported and not read). Each factor is checked against its range; a value outside it is
 //! repaired with a line that says so, never trusted. Their textures are not read yet: a file
 //! that names one gets a repair line saying that the factor alone is used.
 
@@ -69,6 +70,41 @@ impl MaterialImporter<'_> {
                 "clearcoatNormalTexture",
             ],
         );
+    }
+
+    /// KHR_materials_transmission: `transmissionFactor` in [0, 1] (default 0). The surface is
+    /// thin-walled; KHR_materials_volume with a thickness above 0 (refraction and attenuation
+    /// inside a closed mesh) is not read yet, and a repair line says so.
+    pub(super) fn read_transmission(
+        &mut self,
+        element: &str,
+        m: &gltf::Material,
+        out: &mut Material,
+    ) {
+        if let Some(ext) = m.extension_value("KHR_materials_transmission") {
+            if let Some(f) =
+                self.unit_factor(element, ext, "transmissionFactor", "transmission factor")
+            {
+                out.transmission = f;
+            }
+            self.textures_not_read(
+                element,
+                ext,
+                "KHR_materials_transmission",
+                &["transmissionTexture"],
+            );
+        }
+        if let Some(volume) = m.extension_value("KHR_materials_volume")
+            && volume
+                .get("thicknessFactor")
+                .and_then(Value::as_f64)
+                .is_some_and(|t| t > 0.0)
+        {
+            self.repair(
+                element.into(),
+                "KHR_materials_volume is not read: the surface is rendered thin-walled".into(),
+            );
+        }
     }
 
     /// The number `field` of `ext` in [0, 1]: a finite number outside is clamped, anything

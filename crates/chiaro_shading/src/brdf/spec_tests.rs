@@ -4,7 +4,7 @@
 //! constant environment (face-on base colour 0.8 roughness 0.5: 0.805; white, metallic 0.4,
 //! roughness 0.4: 0.986).
 
-use glam::{DVec3, Vec3};
+use glam::{DVec3, Vec2, Vec3};
 
 use super::tests::{direction, random_params, sampled_albedo};
 use super::*;
@@ -12,14 +12,23 @@ use crate::rng::Pcg32;
 use crate::sampling::uniform_hemisphere;
 use crate::test_util::GaussLegendre;
 
-/// f(wo, wi) by the specification's formulas, in f64, for directions above the surface:
-/// mix(fresnel_mix(...), conductor_fresnel(...), metallic) (1 - absorption).
+/// f(wo, wi) by the specification's formulas, in f64: mix(fresnel_mix(...), conductor_fresnel(...),
+/// metallic) under fresnel_coat, times (1 - absorption). For wi below the surface, the
+/// thin-walled transmission: the dielectric's base transmits transmission base_color
+/// specular_btdf, the reflection lobe evaluated with wi mirrored to the upper side.
 fn spec_brdf(p: &SurfaceParams, wo: DVec3, wi: DVec3) -> DVec3 {
     let c = p.base_color.as_dvec3().clamp(DVec3::ZERO, DVec3::ONE);
     let metallic = p.metallic.clamp(0.0, 1.0) as f64;
     let weight = p.specular.clamp(0.0, 1.0) as f64;
+    let transmission = p.transmission.clamp(0.0, 1.0) as f64;
     let f0_ior = p.f0_dielectric.clamp(0.0, 1.0) as f64;
     let f0 = (p.specular_color.as_dvec3().max(DVec3::ZERO) * f0_ior).min(DVec3::ONE);
+    let below = wi.z < 0.0;
+    let wi = if below {
+        DVec3::new(wi.x, wi.y, -wi.z)
+    } else {
+        wi
+    };
     let r = p.roughness.clamp(0.0, 1.0) as f64;
     let a2 = (r * r).powi(2);
     let h = (wo + wi).normalize();
@@ -29,8 +38,15 @@ fn spec_brdf(p: &SurfaceParams, wo: DVec3, wi: DVec3) -> DVec3 {
         / (n_l * (n_v * n_v * (1.0 - a2) + a2).sqrt() + n_v * (n_l * n_l * (1.0 - a2) + a2).sqrt());
     let schlick = |f0: DVec3| f0 + (DVec3::ONE - f0) * (1.0 - v_h.abs()).powi(5);
     let fr = schlick(f0);
+    let beneath = c * (1.0 - weight * fr.max_element());
+    let coat_weight = p.clearcoat.clamp(0.0, 1.0) as f64 * (0.04 + 0.96 * (1.0 - n_v).powi(5));
+    let absorption = 1.0 - p.absorption.clamp(0.0, 1.0) as f64;
+    if below {
+        let transmitted = beneath * (transmission * d * v) * (1.0 - metallic);
+        return transmitted * (1.0 - coat_weight) * absorption;
+    }
     let dielectric =
-        c * std::f64::consts::FRAC_1_PI * (1.0 - weight * fr.max_element()) + fr * (weight * d * v);
+        beneath * ((1.0 - transmission) * std::f64::consts::FRAC_1_PI) + fr * (weight * d * v);
     let metal = schlick(c) * (d * v);
     let base = dielectric * (1.0 - metallic) + metal * metallic;
     // KHR_materials_clearcoat: fresnel_coat(ior 1.5, weight clearcoat) at n.v over the coat's
@@ -40,14 +56,22 @@ fn spec_brdf(p: &SurfaceParams, wo: DVec3, wi: DVec3) -> DVec3 {
     let coat_v = 0.5
         / (n_l * (n_v * n_v * (1.0 - coat_a2) + coat_a2).sqrt()
             + n_v * (n_l * n_l * (1.0 - coat_a2) + coat_a2).sqrt());
-    let coat_weight = p.clearcoat.clamp(0.0, 1.0) as f64 * (0.04 + 0.96 * (1.0 - n_v).powi(5));
-    (base * (1.0 - coat_weight) + DVec3::splat(coat_weight * coat_d * coat_v))
-        * (1.0 - p.absorption.clamp(0.0, 1.0) as f64)
+    (base * (1.0 - coat_weight) + DVec3::splat(coat_weight * coat_d * coat_v)) * absorption
 }
 
-/// The directional albedo of the spec's BRDF by Gauss-Legendre quadrature over the hemisphere
-/// (theta and phi), in f64.
+/// The directional albedo of the spec's BSDF by Gauss-Legendre quadrature over the hemisphere
+/// (theta and phi), in f64, reflected and (for transmissive materials) transmitted.
 fn spec_albedo(p: &SurfaceParams, wo: Vec3) -> DVec3 {
+    let reflected = hemisphere_albedo(p, wo, 1.0);
+    if p.transmission > 0.0 {
+        reflected + hemisphere_albedo(p, wo, -1.0)
+    } else {
+        reflected
+    }
+}
+
+/// The integral of f |cos| over the hemisphere on the `side` (1 above, -1 below) of the surface.
+fn hemisphere_albedo(p: &SurfaceParams, wo: Vec3, side: f64) -> DVec3 {
     let theta_rule = GaussLegendre::new(400);
     let phi_rule = GaussLegendre::new(400);
     let wo = wo.as_dvec3();
@@ -58,9 +82,9 @@ fn spec_albedo(p: &SurfaceParams, wo: Vec3) -> DVec3 {
                 let wi = DVec3::new(
                     theta.sin() * phi.cos(),
                     theta.sin() * phi.sin(),
-                    theta.cos(),
+                    side * theta.cos(),
                 );
-                spec_brdf(p, wo, wi)[k] * wi.z * theta.sin()
+                spec_brdf(p, wo, wi)[k] * wi.z.abs() * theta.sin()
             })
         });
         sum[k] = albedo;
@@ -84,9 +108,13 @@ fn eval_is_the_spec_formula() {
             continue;
         }
         let wo = uniform_hemisphere(rng.next_vec2());
-        let wi = uniform_hemisphere(rng.next_vec2());
+        let mut wi = uniform_hemisphere(rng.next_vec2());
         if wo.z <= 1e-3 || wi.z <= 1e-3 {
             continue;
+        }
+        // Half the directions below the surface: the transmission lobe.
+        if rng.next_f32() < 0.5 {
+            wi.z = -wi.z;
         }
         let ours = eval(&p, wo, wi).as_dvec3();
         let spec = spec_brdf(&p, wo.as_dvec3(), wi.as_dvec3());
@@ -142,6 +170,20 @@ fn sampled_albedo_matches_the_spec_by_quadrature() {
             clearcoat_roughness: 0.6,
             metallic: 1.0,
             roughness: 0.45,
+            ..dielectric
+        },
+        SurfaceParams {
+            transmission: 0.8,
+            base_color: Vec3::new(0.9, 0.8, 0.6),
+            metallic: 0.2,
+            ..dielectric
+        },
+        SurfaceParams {
+            transmission: 1.0,
+            clearcoat: 0.5,
+            clearcoat_roughness: 0.4,
+            base_color: Vec3::ONE,
+            roughness: 0.35,
             ..dielectric
         },
     ];
@@ -236,6 +278,34 @@ fn a_mirror_coat_adds_its_fresnel_reflection_to_the_base() {
         assert!(
             (sampled / expected - 1.0).abs() < 0.01,
             "mu {mu}: {sampled} against {expected}"
+        );
+    }
+}
+
+/// A clear, smooth, thin-walled pane (white, transmission 1, roughness 0) passes straight
+/// through all it does not reflect: its two delta lobes, weighted by their selection
+/// probabilities, reflect F(n.wo) and transmit 1 - F(n.wo), exactly 1 in all at every view;
+/// the transmitted delta points along -wo.
+#[test]
+fn a_clear_thin_pane_passes_what_it_does_not_reflect() {
+    let pane = SurfaceParams {
+        base_color: Vec3::ONE,
+        metallic: 0.0,
+        roughness: 0.0,
+        transmission: 1.0,
+        ..SurfaceParams::default()
+    };
+    for mu in [1.0f32, 0.5, 0.1] {
+        let wo = direction(mu);
+        let reflected = sample(&pane, wo, 0.0, Vec2::splat(0.5)).unwrap();
+        let through = sample(&pane, wo, 0.999_999, Vec2::splat(0.5)).unwrap();
+        assert!(reflected.delta && reflected.wi == Vec3::new(-wo.x, -wo.y, wo.z));
+        assert!(through.delta && through.wi == -wo, "{through:?}");
+        let total = reflected.weight * reflected.pdf + through.weight * through.pdf;
+        assert!((reflected.pdf + through.pdf - 1.0).abs() < 1e-6);
+        assert!(
+            (total - Vec3::ONE).abs().max_element() < 1e-6,
+            "mu {mu}: {total}"
         );
     }
 }

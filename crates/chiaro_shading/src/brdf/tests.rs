@@ -46,6 +46,8 @@ pub(super) fn random_params(rng: &mut Pcg32) -> SurfaceParams {
     // Half the materials have no coat at all.
     let clearcoat = pick(&[0.0, 1.0]) * f32::from(u8::from(pick(&[0.0, 1.0]) >= 0.5));
     let clearcoat_roughness = pick(&[0.0, 1.0, MIRROR_ALPHA.sqrt() * 1.001, 0.05]);
+    // Half the materials transmit nothing.
+    let transmission = pick(&[0.0, 1.0]) * f32::from(u8::from(pick(&[0.0, 1.0]) >= 0.5));
     SurfaceParams {
         base_color,
         metallic,
@@ -55,6 +57,7 @@ pub(super) fn random_params(rng: &mut Pcg32) -> SurfaceParams {
         specular_color,
         clearcoat,
         clearcoat_roughness,
+        transmission,
         absorption,
     }
 }
@@ -320,7 +323,20 @@ fn sample_agrees_with_eval_and_pdf() {
         let Some(s) = sample(&p, wo, rng.next_f32(), rng.next_vec2()) else {
             continue;
         };
-        assert!(s.wi.z > 0.0 && (s.wi.length() - 1.0).abs() < 1e-4, "{s:?}");
+        assert!(s.wi.z != 0.0 && (s.wi.length() - 1.0).abs() < 1e-4, "{s:?}");
+        if s.delta && s.wi.z < 0.0 {
+            // A smooth thin-walled surface transmits straight through.
+            delta += 1;
+            let m = Material::new(&p);
+            assert!(m.mirror && s.wi == -wo, "{p:?} {wo} {s:?}");
+            let probabilities = m.lobe_probabilities(wo.z);
+            assert_eq!(s.pdf, probabilities.transmission);
+            let expected = m.fresnel(wo.z).transmission * m.base_weight(wo.z) * m.scale / s.pdf;
+            assert!(
+                (s.weight - expected).abs().max_element() < 1e-5 * expected.max_element().max(1.0)
+            );
+            continue;
+        }
         if s.delta {
             delta += 1;
             let m = Material::new(&p);
@@ -346,7 +362,7 @@ fn sample_agrees_with_eval_and_pdf() {
         }
         non_delta += 1;
         assert_eq!(pdf(&p, wo, s.wi), s.pdf, "{p:?} {wo} {s:?}");
-        let expected = eval(&p, wo, s.wi) * s.wi.z / s.pdf;
+        let expected = eval(&p, wo, s.wi) * s.wi.z.abs() / s.pdf;
         let tol = 1e-4 * expected.max_element().max(1e-3);
         assert!(
             (s.weight - expected).abs().max_element() <= tol,
@@ -453,6 +469,7 @@ fn parameters_are_clamped() {
         specular_color: Vec3::new(-1.0, 2.0, 0.5),
         clearcoat: 3.0,
         clearcoat_roughness: -1.0,
+        transmission: 2.0,
         absorption: -2.0,
     };
     let tame = SurfaceParams {
@@ -464,6 +481,7 @@ fn parameters_are_clamped() {
         specular_color: Vec3::new(0.0, 1.0, 0.5),
         clearcoat: 1.0,
         clearcoat_roughness: 0.0,
+        transmission: 1.0,
         absorption: 0.0,
     };
     assert_eq!(eval(&wild, wo, wi), eval(&tame, wo, wi));
@@ -525,7 +543,7 @@ fn hard_cases_are_finite() {
                         for &b in &us {
                             for &c in &us {
                                 if let Some(s) = sample(&p, wo, a, Vec2::new(b, c)) {
-                                    assert!(s.wi.is_finite() && s.wi.z > 0.0, "{p:?} {wo} {s:?}");
+                                    assert!(s.wi.is_finite() && s.wi.z != 0.0, "{p:?} {wo} {s:?}");
                                     assert!(s.weight.is_finite() && s.weight.min_element() >= 0.0);
                                     assert!(s.pdf.is_finite() && s.pdf > 0.0, "{p:?} {wo} {s:?}");
                                 }
@@ -567,7 +585,7 @@ fn random_inputs_are_finite() {
         let d = pdf(&p, wo, wi);
         assert!(d.is_finite() && d >= 0.0, "{p:?} {wo} {wi}: {d}");
         if let Some(s) = sample(&p, wo, rng.next_f32(), rng.next_vec2()) {
-            assert!(s.wi.is_finite() && s.wi.z > 0.0, "{p:?} {wo} {s:?}");
+            assert!(s.wi.is_finite() && s.wi.z != 0.0, "{p:?} {wo} {s:?}");
             assert!(
                 s.weight.is_finite() && s.weight.min_element() >= 0.0,
                 "{p:?} {wo} {s:?}"
