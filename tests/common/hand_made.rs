@@ -95,7 +95,7 @@ impl EmbeddedBuffer {
         component: u32,
         normalized: bool,
     ) -> usize {
-        while self.bytes.len() % 4 != 0 {
+        while !self.bytes.len().is_multiple_of(4) {
             self.bytes.push(0);
         }
         self.views
