@@ -43,6 +43,8 @@ pub struct SceneFeatures {
     pub second_uv_set: bool,
     /// Some used material is alpha-masked.
     pub alpha_masks: bool,
+    /// Some used material is alpha-blended: stochastic coverage (`chiaro_shading::coverage`).
+    pub alpha_blend: bool,
     /// Some used mesh has vertex colours (glTF's COLOR_0).
     pub vertex_colors: bool,
     /// Some used material is double-sided.
@@ -115,6 +117,7 @@ impl SceneFeatures {
         self.emissive_textures |= m.emissive_texture.is_some() && m.is_emissive();
         self.second_uv_set |= m.texture_slots().any(|(_, t)| t.uv_set == 1);
         self.alpha_masks |= matches!(m.alpha_mode, AlphaMode::Mask { .. });
+        self.alpha_blend |= m.alpha_mode == AlphaMode::Blend;
         self.double_sided |= m.double_sided;
         self.emissive_triangles |= m.is_emissive();
     }
@@ -136,6 +139,7 @@ impl SceneFeatures {
             (self.emissive_textures, "emissive textures"),
             (self.second_uv_set, "second UV set"),
             (self.alpha_masks, "alpha masks"),
+            (self.alpha_blend, "alpha blend (stochastic coverage)"),
             (self.vertex_colors, "vertex colours"),
             (self.double_sided, "double-sided materials"),
             (self.point_lights, "point lights"),
@@ -343,6 +347,9 @@ mod tests {
             material: crate::material::MaterialId(0),
         };
         let f = SceneFeatures::gather([&used], [], &materials, &meshes, None);
-        assert!(f.vertex_colors && f.alpha_masks);
+        assert!(f.vertex_colors && f.alpha_masks && !f.alpha_blend);
+        materials.get_mut(used.material).unwrap().alpha_mode = AlphaMode::Blend;
+        let f = SceneFeatures::gather([&used], [], &materials, &meshes, None);
+        assert!(f.alpha_blend && !f.alpha_masks);
     }
 }

@@ -182,9 +182,6 @@ impl<'a> MaterialImporter<'a> {
             emissive_slot.and_then(|s| self.slot(&element, "emissive", s, ColorSpace::Srgb));
         material.absorption = self.absorption(&element, m);
         self.sanitize_factors(&element, &mut material);
-        if material.alpha_mode == AlphaMode::Blend {
-            self.repair(element, "alpha mode BLEND is rendered as opaque".into());
-        }
         material
     }
 
