@@ -7,7 +7,10 @@
 // Per pixel: world position, geometric and shading normals (octahedral, Cigolle et al., "A
 // Survey of Efficient Representations for Independent Unit Vectors", JCGT 3(2), 2014), base
 // colour (factor x texture x vertex colour), metallic, roughness, emission, instance id and the
-// motion vector; depth in the depth attachment. Alpha-masked texels are discarded. Surfaces are shaded as chiaro_reference's
+// motion vector; depth in the depth attachment. Alpha-masked texels are discarded, and
+// alpha-blended fragments with probability 1 - alpha (stochastic coverage, coverage.wgsl),
+// the number hashed from the pixel, the frame's camera.frame_seed, the instance and the depth,
+// so the frames that accumulate see every fragment in proportion to its alpha. Surfaces are shaded as chiaro_reference's
 // surface_at: the front face is counter-clockwise (clockwise under a mirroring transform), a
 // back face of a single-sided material does not shade, normal maps use the interpolated
 // tangent frame. The geometric normal is the triangle's face (the cross product of its
@@ -18,6 +21,7 @@
 #import lib/scene_bindings.wgsl
 #import lib/textures.wgsl
 #import lib/base_color.wgsl
+#import lib/coverage.wgsl
 #import lib/features.wgsl
 #import lib/shading_normals.wgsl
 #import lib/camera.wgsl
@@ -153,6 +157,13 @@ fn fs_main(in: VertexOut) -> GbufferOut {
     let base = material_base_color(material, mesh_flags, in.uvs, in.color);
     if FEATURE_ALPHA_MASKS && (material.flags & MATERIAL_ALPHA_MASK) != 0u && !(base.w >= material.alpha_cutoff) {
         discard;
+    }
+    if FEATURE_ALPHA_BLEND && (material.flags & MATERIAL_ALPHA_BLEND) != 0u {
+        let u = coverage_fragment_number(vec2<u32>(in.clip.xy), camera.frame_seed, in.instance,
+            in.clip.z);
+        if !coverage_stops(base.w, u) {
+            discard;
+        }
     }
     let view = in.world - camera.origin;
     let incoming = select(view, camera.forward, camera.orthographic != 0u);

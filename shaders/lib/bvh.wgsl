@@ -13,8 +13,9 @@
 // hit.instance == BVH_NO_HIT when there is none) and trace_any(ray, t_max) -> bool (true at
 // the first accepted hit found, nearest or not). Rays that chiaro_bvh::Ray::is_valid refuses
 // hit nothing. The importing module must define
-//     fn hit_accepted(instance: u32, triangle: u32, barycentrics: vec2<f32>) -> bool
-// which decides whether a candidate hit counts (false: a hole, e.g. an alpha mask); both
+//     fn hit_accepted(ray: Ray, instance: u32, triangle: u32, barycentrics: vec2<f32>) -> bool
+// which decides whether a candidate hit of the (world) ray counts (false: a hole, e.g. an
+// alpha mask, or a blended surface the ray passes); both
 // queries call it for candidates only, the closest-hit query only for candidates nearer than
 // the best accepted so far.
 //
@@ -251,7 +252,7 @@ fn bvh_trace_instance(
             let tri = bvh_load_triangle(triangle_group.x + offset);
             bvh_steps += 1u;
             let h = watertight_intersect(watertight, tri.v0, tri.v1, tri.v2, t_min, *t_max);
-            if h.found && hit_accepted(instance, tri.triangle, vec2<f32>(h.b1, h.b2)) {
+            if h.found && hit_accepted(ray, instance, tri.triangle, vec2<f32>(h.b1, h.b2)) {
                 (*best).t = h.t;
                 (*best).instance = instance;
                 (*best).triangle = tri.triangle;

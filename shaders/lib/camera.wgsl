@@ -14,7 +14,8 @@ struct GpuCamera {
     forward: vec3<f32>,
     near: f32,
     jitter: vec2<f32>,
-    pad1: vec2<f32>,
+    frame_seed: u32,
+    pad1: u32,
 }
 
 // Origin (xyz) and unit direction of the primary ray through the point `pixel` of the image

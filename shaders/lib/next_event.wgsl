@@ -251,8 +251,9 @@ fn area_light_sample(s: Shading, rng: ptr<function, Pcg32>) -> AreaSample {
         let mesh_b = select(b, b.yx, t.mirrored);
         let material = scene_material(bvh_load_instance_whole(entry.instance).material);
         let two_sided = (material.flags & MATERIAL_DOUBLE_SIDED) != 0u;
-        ls = sample_triangle(t.v0, t.v1, t.v2, emission_at(entry.instance, t.indices, mesh_b),
-            two_sided, s.position, u);
+        let radiance = emission_at(entry.instance, t.indices, mesh_b)
+            * emitter_coverage(entry.instance, t.indices, mesh_b);
+        ls = sample_triangle(t.v0, t.v1, t.v2, radiance, two_sided, s.position, u);
     }
     return AreaSample(ls, pmf);
 }

@@ -46,7 +46,7 @@ struct BenchRay {
 @group(1) @binding(0) var<storage, read> rays: array<BenchRay>;
 @group(1) @binding(1) var<storage, read_write> results: array<vec2<u32>>;
 
-fn hit_accepted(instance: u32, triangle: u32, barycentrics: vec2<f32>) -> bool {
+fn hit_accepted(ray: Ray, instance: u32, triangle: u32, barycentrics: vec2<f32>) -> bool {
     return true;
 }
 

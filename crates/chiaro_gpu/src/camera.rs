@@ -44,8 +44,12 @@ pub struct GpuCamera {
     pub near: f32,
     /// The sub-pixel point of this frame, in [0, 1)^2 (x right, y down).
     pub jitter: [f32; 2],
+    /// A number of this frame's own, from the seed and the frame index
+    /// ([`crate::renderer::coverage_frame_seed`]): the G-buffer hashes it into the coverage
+    /// number of alpha-blended fragments. 0 from [`GpuCamera::new`].
+    pub frame_seed: u32,
     /// Padding.
-    pub pad1: [f32; 2],
+    pub pad1: u32,
 }
 
 /// The active camera's projection and placement.
@@ -149,7 +153,8 @@ impl GpuCamera {
             forward: forward.to_array(),
             near,
             jitter: jitter.to_array(),
-            pad1: [0.0; 2],
+            frame_seed: 0,
+            pad1: 0,
         }
     }
 

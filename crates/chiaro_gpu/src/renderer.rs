@@ -113,6 +113,13 @@ pub fn jitter(seed: u64, frame: u32) -> Vec2 {
     Vec2::new(x as f32, y as f32).min(Vec2::splat(1.0 - f32::EPSILON))
 }
 
+/// The number of frame `frame` under `seed` that the G-buffer hashes into the coverage of
+/// alpha-blended fragments ([`GpuCamera::frame_seed`]): distinct frames and seeds give
+/// unrelated numbers, so the fragments' coverage decisions are fresh every frame.
+pub fn coverage_frame_seed(seed: u64, frame: u32) -> u32 {
+    chiaro_shading::coverage::hash_words(&[seed as u32, (seed >> 32) as u32, frame])
+}
+
 /// Parts of a G-buffer read back (for tests and debug views), row-major, top row first.
 #[derive(Clone, Debug)]
 pub struct GbufferImage {
@@ -315,7 +322,8 @@ impl Renderer {
         let (width, height) = (settings.width, settings.height);
         let (camera, global) = active_camera(world)?;
         let jitter = jitter(settings.seed, self.frame_index);
-        let gpu_camera = GpuCamera::new(&camera, &global, width, height, jitter, self.previous);
+        let mut gpu_camera = GpuCamera::new(&camera, &global, width, height, jitter, self.previous);
+        gpu_camera.frame_seed = coverage_frame_seed(settings.seed, self.frame_index);
         let scene = world.resource::<GpuScene>();
         if let Some(overflow) = scene.overflow() {
             return Err(overflow.clone().into());

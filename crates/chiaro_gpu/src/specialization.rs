@@ -4,12 +4,12 @@
 //! The shaders that read the scene (`gbuffer`, `direct`, `indirect`) import the virtual module
 //! `lib/features.wgsl`, written by [`features_module`]: one pipeline-overridable `bool` per
 //! [`PipelineFeatures`] flag, `true` by default, guarding the code of that feature (a texture
-//! lookup, the alpha-mask test in BVH traversal, vertex colours, a kind of light, the
-//! environment). A pipeline
-//! is created with the flags of the scene's [`SceneFeatures`]; the driver's compiler then drops
-//! the code behind every flag that is off. The image is the same: a flag is off only when the
-//! scene has nothing the guarded code would act on, and no guarded code draws random numbers
-//! the rest of the shader depends on.
+//! lookup, the alpha-mask and coverage tests in BVH traversal, vertex colours, a kind of
+//! light, the environment). A pipeline is created with the flags of the scene's
+//! [`SceneFeatures`]; the driver's compiler then drops the code behind every flag that is off.
+//! The image is the same: a flag is off only when the scene has nothing the guarded code would
+//! act on, and no guarded code draws random numbers the rest of the shader depends on (the
+//! coverage test of alpha blending hashes its numbers: `chiaro_shading::coverage`).
 //!
 //! [`PipelineCache`] keeps one pipeline per feature set. When an edit changes the features, it
 //! either builds the new pipeline before the frame (headless rendering: the frame is exact) or
@@ -68,14 +68,17 @@ impl PipelineFeatures {
     pub const LIGHT_TREES: Self = Self(1 << 11);
     /// Vertex colours multiply the base colour and alpha.
     pub const VERTEX_COLORS: Self = Self(1 << 12);
+    /// Alpha-blended materials stop rays with probability alpha, in the rasterizer and at
+    /// every candidate ray hit (`chiaro_shading::coverage`).
+    pub const ALPHA_BLEND: Self = Self(1 << 13);
     /// A clear coat (KHR_materials_clearcoat) is evaluated and sampled in the BRDF.
-    pub const CLEARCOAT: Self = Self(1 << 13);
+    pub const CLEARCOAT: Self = Self(1 << 14);
     /// Transmissive materials (KHR_materials_transmission): their lobe is evaluated and
     /// sampled, and rays and light samples pass through them.
-    pub const TRANSMISSION: Self = Self(1 << 14);
+    pub const TRANSMISSION: Self = Self(1 << 15);
 
     /// Every flag, in bit order.
-    pub const FLAGS: [FeatureFlag; 15] = [
+    pub const FLAGS: [FeatureFlag; 16] = [
         flag(
             Self::BASE_COLOR_TEXTURES,
             "FEATURE_BASE_COLOR_TEXTURES",
@@ -130,6 +133,11 @@ impl PipelineFeatures {
             "vertex colours",
         ),
         flag(
+            Self::ALPHA_BLEND,
+            "FEATURE_ALPHA_BLEND",
+            "alpha-blended materials (stochastic coverage)",
+        ),
+        flag(
             Self::CLEARCOAT,
             "FEATURE_CLEARCOAT",
             "clear-coated materials",
@@ -163,6 +171,7 @@ impl PipelineFeatures {
         add(features.normal_maps, Self::NORMAL_MAPS);
         add(features.alpha_masks, Self::ALPHA_MASKS);
         add(features.vertex_colors, Self::VERTEX_COLORS);
+        add(features.alpha_blend, Self::ALPHA_BLEND);
         add(features.clearcoat, Self::CLEARCOAT);
         add(features.transmission, Self::TRANSMISSION);
         add(features.point_lights, Self::POINT_LIGHTS);

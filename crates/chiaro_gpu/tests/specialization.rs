@@ -5,8 +5,9 @@
 //!   all-features frame and every frame with one more flag than the scene needs are the same
 //!   image with the same seed: relMSE at most [`ROUNDING`].
 //! - On a Cornell box given every feature (textures of each kind, a normal-mapped panel, an
-//!   alpha-masked block, vertex colours on the panel, a clear-coated left wall, a transmissive
-//!   right wall, point, spot and directional lights, an environment image, an
+//!   alpha-masked block, vertex colours on the panel, which is alpha-blended, a clear-coated
+//!   left wall, a transmissive right wall, point, spot and directional lights, an environment
+//!   image, an
 //!   emitting short block, whose triangles with the light's are enough for a light tree), the
 //!   pipeline for exactly the scene's features renders the all-features image, and turning any
 //!   one flag off changes the image (relMSE above [`MISSING`]).
@@ -225,6 +226,8 @@ fn cornell_with_every_feature() -> World {
         normal_texture: Some(bumps),
         metallic: 1.0,
         roughness: 0.2,
+        base_color: Vec4::new(0.9, 0.9, 0.9, 0.6),
+        alpha_mode: AlphaMode::Blend,
         ..Material::diffuse("bumpy", Vec3::splat(0.9), 0.2)
     });
     world.spawn((

@@ -93,7 +93,7 @@ struct TestHit {
 var<private> mask_odd: bool;
 
 // The test's alpha mask: with mask_odd, every odd triangle is a hole.
-fn hit_accepted(instance: u32, triangle: u32, barycentrics: vec2<f32>) -> bool {
+fn hit_accepted(ray: Ray, instance: u32, triangle: u32, barycentrics: vec2<f32>) -> bool {
     return !mask_odd || (triangle & 1u) == 0u;
 }
 

@@ -49,6 +49,7 @@ fn self_contained_modules_validate_alone() {
         "lib/bvh_bindings.wgsl",
         "lib/lights.wgsl",
         "lib/tonemap.wgsl",
+        "lib/coverage.wgsl",
     ];
     for name in modules {
         let source = shaders::compose(name).unwrap_or_else(|e| panic!("{e}"));

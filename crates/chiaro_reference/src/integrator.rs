@@ -16,7 +16,7 @@ use glam::{Vec2, Vec3};
 
 use crate::light_table::{LightEntry, LightSampling};
 use crate::scene::RenderScene;
-use crate::surface::{SurfaceHit, emission_at, surface_at, uvs_at};
+use crate::surface::{SurfaceHit, emission_at, emitter_coverage, surface_at, uvs_at};
 
 /// How paths are traced.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -109,7 +109,8 @@ fn sample_light(scene: &RenderScene, entry: &LightEntry, p: Vec3, u: Vec2) -> Op
             } else {
                 Vec3::new(1.0 - b1 - b2, b1, b2)
             };
-            let radiance = emission_at(scene, material, uvs_at(mesh, triangle, b));
+            let radiance = emission_at(scene, material, uvs_at(mesh, triangle, b))
+                * emitter_coverage(scene, material, mesh, triangle, b);
             let pdf = lights::triangle_solid_angle_pdf(v, p, q);
             (pdf > 0.0 && pdf.is_finite()).then_some(LightSample {
                 wi,

@@ -12,7 +12,7 @@ use chiaro_shading::lights::EnvironmentLight;
 use crate::camera::CameraRays;
 use crate::error::ReferenceError;
 use crate::light_table::{LightSampling, LightTable};
-use crate::surface::alpha_passes;
+use crate::surface::stops_ray;
 
 /// A scene ready to be path traced; borrows the World's assets.
 pub struct RenderScene<'w> {
@@ -32,9 +32,10 @@ pub struct RenderScene<'w> {
     pub environment: EnvironmentLight,
     /// The camera.
     pub camera: CameraRays,
-    /// True when some material is alpha-masked: only then do ray queries test candidates'
-    /// alpha (an opaque scene takes the unfiltered traversal, without a callback per hit).
-    pub has_alpha_masks: bool,
+    /// True when some material is alpha-masked or alpha-blended: only then do ray queries test
+    /// candidates' alpha (an opaque scene takes the unfiltered traversal, without a callback
+    /// per hit).
+    pub has_alpha_tests: bool,
 }
 
 /// The environment resource as a light (black when absent).
@@ -100,25 +101,28 @@ impl<'w> RenderScene<'w> {
             lights,
             environment: environment_light(world),
             camera: CameraRays::new(camera, global, width, height),
-            has_alpha_masks: materials
+            has_alpha_tests: materials
                 .iter()
-                .any(|(_, m)| matches!(m.alpha_mode, AlphaMode::Mask { .. })),
+                .any(|(_, m)| m.alpha_mode != AlphaMode::Opaque),
         })
     }
 
-    /// The nearest surface along `ray`, alpha-masked texels skipped.
+    /// The nearest surface along `ray` that stops it: alpha-masked texels are skipped, and
+    /// alpha-blended surfaces stop it with probability alpha (`chiaro_shading::coverage`).
     pub fn closest_hit(&self, ray: &Ray) -> Option<Hit> {
-        if self.has_alpha_masks {
-            self.bvh.closest_hit_with(ray, &|h| alpha_passes(self, h))
+        if self.has_alpha_tests {
+            self.bvh.closest_hit_with(ray, &|h| stops_ray(self, ray, h))
         } else {
             self.bvh.closest_hit(ray)
         }
     }
 
-    /// True when something opaque blocks `ray` (alpha-masked texels let it through).
+    /// True when something blocks `ray`: alpha-masked texels let it through, alpha-blended
+    /// surfaces block it with probability alpha (so the expected visibility is the product of
+    /// their 1 - alpha, as the GPU's shadow rays decide too).
     pub fn occluded(&self, ray: &Ray) -> bool {
-        if self.has_alpha_masks {
-            self.bvh.any_hit_with(ray, &|h| alpha_passes(self, h))
+        if self.has_alpha_tests {
+            self.bvh.any_hit_with(ray, &|h| stops_ray(self, ray, h))
         } else {
             self.bvh.any_hit(ray)
         }

@@ -8,6 +8,7 @@
 use chiaro_bvh::{Hit, Ray};
 use chiaro_scene::{AlphaMode, Material, Mesh};
 use chiaro_shading::brdf::SurfaceParams;
+use chiaro_shading::coverage;
 use chiaro_shading::frame::Frame;
 use glam::{Vec2, Vec3, Vec4};
 
@@ -104,21 +105,48 @@ pub fn emission_at(scene: &RenderScene, material: &Material, uvs: [Option<Vec2>;
     material.emitted_radiance() * texture
 }
 
-/// False when an alpha-masked material is cut away at this hit: the ray passes through.
-pub fn alpha_passes(scene: &RenderScene, hit: &Hit) -> bool {
+/// Whether candidate `hit` of `ray` stops it: false where an alpha-masked material is cut
+/// away; for an alpha-blended one, true with probability alpha, decided by the coverage number
+/// of the ray and triangle (`chiaro_shading::coverage`).
+pub fn stops_ray(scene: &RenderScene, ray: &Ray, hit: &Hit) -> bool {
     let record = &scene.bvh.instances()[hit.instance as usize];
     let Some(material) = scene.materials.get(record.material) else {
         return true;
     };
-    let AlphaMode::Mask { cutoff } = material.alpha_mode else {
+    if material.alpha_mode == AlphaMode::Opaque {
         return true;
-    };
+    }
     let Some(mesh) = scene.meshes.get(record.mesh) else {
         return true;
     };
     let b = barycentrics(hit);
     let uvs = uvs_at(mesh, hit.triangle, b);
-    base_color_at(scene, material, mesh, hit.triangle, b, uvs).w >= cutoff
+    let alpha = base_color_at(scene, material, mesh, hit.triangle, b, uvs).w;
+    match material.alpha_mode {
+        AlphaMode::Mask { cutoff } => alpha >= cutoff,
+        _ => coverage::stops(
+            alpha,
+            coverage::ray_number(ray.origin, ray.direction, hit.instance, hit.triangle),
+        ),
+    }
+}
+
+/// The coverage a light sample on an alpha-blended emitter is weighted by: alpha there (the
+/// share of rays it stops, so of the rays that see its emission); 1 for other materials.
+pub fn emitter_coverage(
+    scene: &RenderScene,
+    material: &Material,
+    mesh: &Mesh,
+    triangle: u32,
+    b: Vec3,
+) -> f32 {
+    if material.alpha_mode != AlphaMode::Blend {
+        return 1.0;
+    }
+    let uvs = uvs_at(mesh, triangle, b);
+    base_color_at(scene, material, mesh, triangle, b, uvs)
+        .w
+        .clamp(0.0, 1.0)
 }
 
 /// Evaluates the surface at `hit` of `ray`.

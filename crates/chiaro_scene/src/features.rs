@@ -43,6 +43,8 @@ pub struct SceneFeatures {
     pub second_uv_set: bool,
     /// Some used material is alpha-masked.
     pub alpha_masks: bool,
+    /// Some used material is alpha-blended: stochastic coverage (`chiaro_shading::coverage`).
+    pub alpha_blend: bool,
     /// Some used mesh has vertex colours (glTF's COLOR_0).
     pub vertex_colors: bool,
     /// Some used material has a clear coat (KHR_materials_clearcoat).
@@ -119,6 +121,7 @@ impl SceneFeatures {
         self.emissive_textures |= m.emissive_texture.is_some() && m.is_emissive();
         self.second_uv_set |= m.texture_slots().any(|(_, t)| t.uv_set == 1);
         self.alpha_masks |= matches!(m.alpha_mode, AlphaMode::Mask { .. });
+        self.alpha_blend |= m.alpha_mode == AlphaMode::Blend;
         self.clearcoat |= m.clearcoat > 0.0;
         self.transmission |= m.transmission > 0.0;
         self.double_sided |= m.double_sided;
@@ -142,6 +145,7 @@ impl SceneFeatures {
             (self.emissive_textures, "emissive textures"),
             (self.second_uv_set, "second UV set"),
             (self.alpha_masks, "alpha masks"),
+            (self.alpha_blend, "alpha blend (stochastic coverage)"),
             (self.vertex_colors, "vertex colours"),
             (self.clearcoat, "clear coats"),
             (self.transmission, "transmission"),
@@ -351,6 +355,9 @@ mod tests {
             material: crate::material::MaterialId(0),
         };
         let f = SceneFeatures::gather([&used], [], &materials, &meshes, None);
-        assert!(f.vertex_colors && f.alpha_masks);
+        assert!(f.vertex_colors && f.alpha_masks && !f.alpha_blend);
+        materials.get_mut(used.material).unwrap().alpha_mode = AlphaMode::Blend;
+        let f = SceneFeatures::gather([&used], [], &materials, &meshes, None);
+        assert!(f.alpha_blend && !f.alpha_masks);
     }
 }

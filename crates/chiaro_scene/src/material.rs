@@ -69,7 +69,8 @@ pub enum AlphaMode {
         /// The alpha cutoff (glTF default 0.5).
         cutoff: f32,
     },
-    /// Blended in glTF; chiaro renders it as opaque (a warning says so at import).
+    /// Blended in glTF; chiaro reads alpha as coverage: the probability that a ray stops at
+    /// the surface, which it otherwise passes straight through (`chiaro_shading::coverage`).
     Blend,
 }
 

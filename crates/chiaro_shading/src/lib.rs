@@ -54,6 +54,7 @@
 
 pub mod brdf;
 pub mod color;
+pub mod coverage;
 pub mod distribution;
 pub mod frame;
 pub mod ggx;

@@ -113,7 +113,8 @@ fn slot(slot: &Option<TextureRef>) -> GpuTextureSlot {
 pub fn material(m: &Material) -> GpuMaterial {
     let (mask, cutoff) = match m.alpha_mode {
         AlphaMode::Mask { cutoff } => (MATERIAL_ALPHA_MASK, cutoff),
-        AlphaMode::Opaque | AlphaMode::Blend => (0, 0.0),
+        AlphaMode::Blend => (MATERIAL_ALPHA_BLEND, 0.0),
+        AlphaMode::Opaque => (0, 0.0),
     };
     GpuMaterial {
         base_color: m.base_color.to_array(),

@@ -14,6 +14,9 @@ pub const NO_INDEX: u32 = u32::MAX;
 pub const MATERIAL_ALPHA_MASK: u32 = 1;
 /// Material flag: both faces shade (else a back face absorbs everything).
 pub const MATERIAL_DOUBLE_SIDED: u32 = 2;
+/// Material flag: alpha mode blend (alpha is the probability that a ray stops there:
+/// `chiaro_shading::coverage`).
+pub const MATERIAL_ALPHA_BLEND: u32 = 4;
 
 /// Mesh flag: the mesh has UV set 0.
 pub const MESH_HAS_UV0: u32 = 1;
@@ -62,6 +65,7 @@ pub fn constants() -> Vec<SharedConstant> {
         U32("NO_INDEX", NO_INDEX),
         U32("MATERIAL_ALPHA_MASK", MATERIAL_ALPHA_MASK),
         U32("MATERIAL_DOUBLE_SIDED", MATERIAL_DOUBLE_SIDED),
+        U32("MATERIAL_ALPHA_BLEND", MATERIAL_ALPHA_BLEND),
         U32("MESH_HAS_UV0", MESH_HAS_UV0),
         U32("MESH_HAS_UV1", MESH_HAS_UV1),
         U32("MESH_HAS_TANGENTS", MESH_HAS_TANGENTS),

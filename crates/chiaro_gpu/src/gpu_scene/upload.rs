@@ -115,9 +115,11 @@ pub fn upload_gpu_scene(
     if bvh_changed || meshes_changed || materials_changed {
         let materials = scene.materials.contents();
         let boxes = scene.instances.contents().iter().map(|instance| {
+            // A mask's holes and a blend's coverage show the back faces behind.
+            let see_through = layout::MATERIAL_ALPHA_MASK | layout::MATERIAL_ALPHA_BLEND;
             let alpha_masked = materials
                 .get(instance.material as usize)
-                .is_none_or(|material| material.flags & layout::MATERIAL_ALPHA_MASK != 0);
+                .is_none_or(|material| material.flags & see_through != 0);
             let bounds = scene
                 .closed_bounds
                 .get(instance.mesh as usize)

@@ -185,9 +185,6 @@ impl<'a> MaterialImporter<'a> {
         self.read_clearcoat(&element, m, &mut material);
         self.read_transmission(&element, m, &mut material);
         self.sanitize_factors(&element, &mut material);
-        if material.alpha_mode == AlphaMode::Blend {
-            self.repair(element, "alpha mode BLEND is rendered as opaque".into());
-        }
         material
     }
 
