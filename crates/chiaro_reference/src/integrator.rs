@@ -133,9 +133,9 @@ fn sample_light(scene: &RenderScene, entry: &LightEntry, p: Vec3, u: Vec2) -> Op
     }
 }
 
-/// The shading-normal rule: a direction the BSDF reflects (above the shading normal, `local_z`
-/// > 0) must leave on the side the geometric normal (turned towards the viewer) faces, and a
-/// transmitted one (`local_z` < 0) on the other. A world direction `wi` on the wrong side
+/// The shading-normal rule: a direction the BSDF reflects (above the shading normal, positive
+/// `local_z`) must leave on the side the geometric normal (turned towards the viewer) faces, and
+/// a transmitted one (negative `local_z`) on the other. A world direction `wi` on the wrong side
 /// carries nothing, whatever the shading normal says (as Cycles does): a BSDF sample there ends
 /// the path instead of crossing the surface, and a light sample there counts zero.
 fn on_its_side(si: &SurfaceHit, wi: Vec3, local_z: f32) -> bool {
