@@ -224,6 +224,11 @@ pub fn shared_constants() -> Vec<SharedConstant> {
             .iter()
             .map(|&(name, value)| F32(name, value)),
     );
+    all.extend(
+        chiaro_shading::sheen::SHADER_CONSTANTS
+            .iter()
+            .map(|&(name, value)| F32(name, value)),
+    );
     all
 }
 

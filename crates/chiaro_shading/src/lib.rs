@@ -11,6 +11,7 @@
 //! - [`distribution`]: discrete 1D and 2D distributions (light selection, environment texels).
 //! - [`ggx`]: the GGX microfacet distribution, Smith masking-shadowing, visible-normal sampling.
 //! - [`brdf`]: the glTF metallic-roughness BRDF: `eval`, `pdf`, `sample`.
+//! - [`sheen`]: KHR_materials_sheen's sheen lobe and albedo scaling (a building block of the BRDF).
 //! - [`lights`]: point, spot, directional, triangle and environment lights: sampling and pdfs.
 //! - [`light_tree`]: a light tree choosing among many lights by their importance to a point.
 //! - [`tonemap`]: ACES (fitted), Khronos PBR Neutral, clamp.
@@ -62,6 +63,7 @@ pub mod light_tree;
 pub mod lights;
 pub mod rng;
 pub mod sampling;
+pub mod sheen;
 pub mod tonemap;
 
 #[cfg(test)]
