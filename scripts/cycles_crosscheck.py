@@ -48,7 +48,11 @@ results.json.
 --make-test-scenes DIR writes small hand-made glTF scenes into DIR (plain JSON with an embedded
 buffer; no Blender needed) and adds them to the list: quads under the constant environment (the
 glTF BRDF's directional albedo read off the centre region), a point light of 100 cd over a floor
-(light units), a vertex-colour quad and an alpha-blended quad over a coloured floor. A scene can
+(light units), a vertex-colour quad, an alpha-blended quad over a coloured floor, and the material
+extensions: a clear-coated quad (facing and at 60 degrees), a KHR_materials_specular quad and a
+transmissive pane over a coloured backdrop. After import, the Principled BSDF inputs of
+KHR_materials_clearcoat / _specular / _transmission are checked against the glTF definition
+(EXTENSION_SOCKETS) and set where they differ. A scene can
 ask for its own environment through asset.extras.cycles_crosscheck.env ("R,G,B"), and for the
 centre-region probe through asset.extras.cycles_crosscheck.probe = "centre".
 
@@ -319,7 +323,69 @@ def try_set(obj, name, value):
     return False
 
 
-def blender_import(scene_path, args):
+# The Principled BSDF inputs that glTF's material extensions map to, as the spec defines the
+# material (Blender's importer, io_scene_gltf2/blender/imp/pbrMetallicRoughness.py, sets the same
+# sockets; this checks them after import and sets any that differ). Each entry: extension,
+# Principled input, value from the extension's dict (None: leave the socket alone).
+EXTENSION_SOCKETS = [
+    ("KHR_materials_clearcoat", "Coat Weight", lambda e: e.get("clearcoatFactor", 0.0)),
+    # The spec's default clearcoatRoughnessFactor is 0; the importer puts 0.03 when it is absent.
+    ("KHR_materials_clearcoat", "Coat Roughness", lambda e: e.get("clearcoatRoughnessFactor", 0.0)),
+    # The clear coat is a dielectric of IOR 1.5 (F0 0.04), colourless.
+    ("KHR_materials_clearcoat", "Coat IOR", lambda e: 1.5),
+    ("KHR_materials_clearcoat", "Coat Tint", lambda e: [1.0, 1.0, 1.0]),
+    # Principled scales F0 by 2 x "Specular IOR Level": 0.5 x specularFactor scales it by the factor.
+    ("KHR_materials_specular", "Specular IOR Level", lambda e: 0.5 * e.get("specularFactor", 1.0)),
+    ("KHR_materials_specular", "Specular Tint", lambda e: list(e.get("specularColorFactor", [1.0] * 3))),
+    ("KHR_materials_transmission", "Transmission Weight", lambda e: e.get("transmissionFactor", 0.0)),
+]
+
+
+def check_extension_sockets(doc, notes):
+    """After import: for each glTF material with KHR_materials_clearcoat / _specular /
+    _transmission, check the Principled BSDF's inputs against EXTENSION_SOCKETS and set those
+    that differ (a linked input, i.e. a texture, is left alone and reported)."""
+    import bpy
+
+    checked, fixed, linked = 0, [], []
+    for i, gm in enumerate(doc.get("materials", [])):
+        exts = gm.get("extensions", {}) or {}
+        wanted = [(ext, sock, f(exts[ext])) for ext, sock, f in EXTENSION_SOCKETS if ext in exts]
+        if not wanted:
+            continue
+        mat = bpy.data.materials.get(gm.get("name", f"Material_{i}"))
+        if mat is None or not mat.node_tree:
+            notes.append(f"material {i} ({gm.get('name')}) not found after import: extensions unchecked")
+            continue
+        pr = [n for n in mat.node_tree.nodes if n.type == "BSDF_PRINCIPLED"]
+        if len(pr) != 1:
+            notes.append(f"material {mat.name}: {len(pr)} Principled BSDFs, extensions unchecked")
+            continue
+        node = pr[0]
+        for ext, sock, value in wanted:
+            inp = node.inputs[sock]
+            checked += 1
+            if inp.is_linked:
+                linked.append(f"{mat.name}.{sock}")
+                continue
+            cur = inp.default_value
+            if isinstance(value, list):
+                ok = all(abs(cur[k] - value[k]) < 1e-6 for k in range(3))
+                new = (value[0], value[1], value[2], 1.0)
+            else:
+                ok = abs(cur - value) < 1e-6
+                new = value
+            if not ok:
+                was = [round(float(v), 4) for v in cur[:3]] if isinstance(value, list) else round(float(cur), 4)
+                fixed.append(f"{mat.name}.{sock} {was} -> {value}")
+                inp.default_value = new
+    if checked:
+        notes.append(f"{checked} extension inputs checked"
+                     + (f", set here: {'; '.join(fixed)}" if fixed else ", all as the importer set them")
+                     + (f", linked (textured, left alone): {', '.join(linked)}" if linked else ""))
+
+
+def blender_import(scene_path, args, doc=None):
     """Fresh Blender state with the scene imported and its materials adjusted; returns notes."""
     import bpy
 
@@ -384,6 +450,8 @@ def blender_import(scene_path, args):
                 tree.links.new(mix.outputs[0], surf)
                 n_single += 1
     notes.append(f"{n_principled} Principled BSDF -> GGX")
+    if doc is not None:
+        check_extension_sockets(doc, notes)
     if args.single_sided:
         notes.append(f"{n_single} single-sided materials")
 
@@ -702,6 +770,55 @@ def make_test_scenes(folder):
     p = os.path.join(folder, "f_alpha_blend.gltf")
     b.write(p, {"probe": "centre"})
     paths.append(p)
+
+    # Material extensions. Each scene lists its extension in extensionsUsed.
+    def with_ext(builder, *names):
+        builder.doc["extensionsUsed"] = sorted(set(builder.doc.get("extensionsUsed", [])) | set(names))
+
+    # (g) KHR_materials_clearcoat (factor 1, roughness 0.3) over a red dielectric (roughness 0.6),
+    # facing the camera and at 60 degrees (its normal 60 degrees up from the view axis).
+    for name, tilt in [("g_clearcoat_facing", 0.0), ("g_clearcoat_60deg", -60.0)]:
+        b = GltfBuilder()
+        m = b.material(name="red_r0.6_clearcoat1_r0.3", **pbr(
+            [0.8, 0.1, 0.1], 0.0, 0.6,
+            extensions={"KHR_materials_clearcoat": {"clearcoatFactor": 1.0,
+                                                    "clearcoatRoughnessFactor": 0.3}}))
+        with_ext(b, "KHR_materials_clearcoat")
+        node = dict(mesh=b.quad(2.0, m), name="quad")
+        if tilt:
+            node["rotation"] = rot_x(tilt)
+        b.node(**node)
+        p = os.path.join(folder, name + ".gltf")
+        b.write(p, {"probe": "centre"})
+        paths.append(p)
+
+    # (h) KHR_materials_specular (factor 0.5, colour (1, 0.5, 0.25)) over a grey dielectric
+    # (base 0.5, roughness 0.5), facing the camera.
+    b = GltfBuilder()
+    m = b.material(name="grey_r0.5_specular0.5", **pbr(
+        [0.5, 0.5, 0.5], 0.0, 0.5,
+        extensions={"KHR_materials_specular": {"specularFactor": 0.5,
+                                               "specularColorFactor": [1.0, 0.5, 0.25]}}))
+    with_ext(b, "KHR_materials_specular")
+    b.node(mesh=b.quad(2.0, m), name="quad")
+    p = os.path.join(folder, "h_specular.gltf")
+    b.write(p, {"probe": "centre"})
+    paths.append(p)
+
+    # (i) KHR_materials_transmission: a thin pane (one double-sided quad, white, roughness 0.2,
+    # transmission 1) 0.5 m in front of an orange diffuse backdrop (3 x 3 m, roughness 1).
+    # chiaro renders it thin-walled (no KHR_materials_volume); Cycles refracts at the quad.
+    b = GltfBuilder()
+    back = b.material(name="orange_backdrop_r1", **pbr([0.8, 0.4, 0.1], 0.0, 1.0))
+    pane = b.material(name="pane_transmission1_r0.2", doubleSided=True, **pbr(
+        [1.0, 1.0, 1.0], 0.0, 0.2,
+        extensions={"KHR_materials_transmission": {"transmissionFactor": 1.0}}))
+    with_ext(b, "KHR_materials_transmission")
+    b.node(mesh=b.quad(3.0, back), name="backdrop")
+    b.node(mesh=b.quad(2.0, pane, z=0.5), name="pane")
+    p = os.path.join(folder, "i_transmission_pane.gltf")
+    b.write(p, {"probe": "centre"})
+    paths.append(p)
     return paths
 
 
@@ -796,7 +913,7 @@ def process_scene(args, scene_path):
 
     # Cycles.
     t = time.time()
-    notes = blender_import(scene_path, args)
+    notes = blender_import(scene_path, args, doc)
     bscene = blender_setup(scene_path, args, cam, env, args.width, args.height)
     row["blender_notes"] = notes
     row["blender_import_s"] = time.time() - t
