@@ -373,7 +373,7 @@ fn required_gpu_instancing_is_read() {
 }
 
 #[test]
-fn specular_and_clearcoat_factors_are_read_and_bad_ones_repaired() {
+fn material_extension_factors_are_read_and_bad_ones_repaired() {
     let mut json = scene_json();
     json["materials"][0]["extensions"]["KHR_materials_specular"] = json!({
         "specularFactor": 0.25, "specularColorFactor": [2.0, 1.0, 0.5],
@@ -381,6 +381,11 @@ fn specular_and_clearcoat_factors_are_read_and_bad_ones_repaired() {
     });
     json["materials"][0]["extensions"]["KHR_materials_clearcoat"] =
         json!({"clearcoatFactor": 0.75, "clearcoatRoughnessFactor": 0.3});
+    json["materials"][0]["extensions"]["KHR_materials_sheen"] =
+        json!({"sheenColorFactor": [0.5, 1.5, 0.25], "sheenRoughnessFactor": 0.4});
+    json["materials"][0]["extensions"]["KHR_materials_transmission"] =
+        json!({"transmissionFactor": 0.6});
+    json["materials"][1]["extensions"]["KHR_materials_volume"] = json!({"thicknessFactor": 0.1});
     json["materials"][1]["extensions"]["KHR_materials_clearcoat"] =
         json!({"clearcoatFactor": 4.0, "clearcoatRoughnessFactor": "rough"});
     json["extensionsUsed"] = json!([
@@ -389,7 +394,10 @@ fn specular_and_clearcoat_factors_are_read_and_bad_ones_repaired() {
         "KHR_materials_ior",
         "KHR_texture_transform",
         "KHR_materials_specular",
-        "KHR_materials_clearcoat"
+        "KHR_materials_clearcoat",
+        "KHR_materials_sheen",
+        "KHR_materials_transmission",
+        "KHR_materials_volume"
     ]);
     let path = write("extensions.gltf", &json);
     let mut world = World::new();
@@ -411,6 +419,15 @@ fn specular_and_clearcoat_factors_are_read_and_bad_ones_repaired() {
         (textured.clearcoat, textured.clearcoat_roughness),
         (0.75, 0.3)
     );
+    assert_eq!(
+        (
+            textured.sheen_color,
+            textured.sheen_roughness,
+            textured.transmission
+        ),
+        (Vec3::new(0.5, 1.0, 0.25), 0.4, 0.6)
+    );
+    assert!(textured.shades_both_sides());
     let glowing = named("glowing");
     assert_eq!(
         (
@@ -425,6 +442,8 @@ fn specular_and_clearcoat_factors_are_read_and_bad_ones_repaired() {
         "KHR_materials_specular's specularTexture is not read: its factor alone is used",
         "clear coat factor 4 clamped to [0, 1]",
         "clear coat roughness \"rough\" is not a number: the default is used",
+        "sheen colour [0.5, 1.5, 0.25] clamped to [0, 1]",
+        "KHR_materials_volume is not read: the surface is rendered thin-walled",
     ] {
         assert!(
             actions.contains(&expected),

@@ -25,6 +25,7 @@
 #import lib/sampling.wgsl
 #import lib/ggx.wgsl
 #import lib/features.wgsl
+#import lib/sheen.wgsl
 
 // A surface's material at a shading point, after texture lookup (chiaro_shading's
 // SurfaceParams). Every field is clamped on use.
@@ -38,6 +39,8 @@ struct SurfaceParams {
     clearcoat: f32,
     clearcoat_roughness: f32,
     transmission: f32,
+    sheen_color: vec3<f32>,
+    sheen_roughness: f32,
     absorption: f32,
 }
 
@@ -64,6 +67,8 @@ struct BrdfMaterial {
     coat_alpha: f32,
     coat_mirror: bool,
     transmission: f32,
+    sheen_color: vec3<f32>,
+    sheen_roughness: f32,
 }
 
 // ((ior - 1) / (ior + 1))^2; negative IORs count as 0.
@@ -104,6 +109,12 @@ fn brdf_material(p: SurfaceParams) -> BrdfMaterial {
     m.transmission = 0.0;
     if FEATURE_TRANSMISSION {
         m.transmission = clamp(p.transmission, 0.0, 1.0);
+    }
+    m.sheen_color = vec3<f32>(0.0);
+    m.sheen_roughness = 0.0;
+    if FEATURE_SHEEN {
+        m.sheen_color = clamp(p.sheen_color, vec3<f32>(0.0), vec3<f32>(1.0));
+        m.sheen_roughness = clamp(p.sheen_roughness, 0.0, 1.0);
     }
     return m;
 }
@@ -148,6 +159,22 @@ fn brdf_base_weight(m: BrdfMaterial, wo_z: f32) -> f32 {
     return (1.0 - m.clearcoat) + m.clearcoat * (1.0 - COAT_F0) * one_minus_m5;
 }
 
+// KHR_materials_sheen's albedo scaling of the base beneath the sheen; exactly 1 without one.
+fn brdf_sheen_scaling(m: BrdfMaterial, wo_z: f32, wi_z: f32) -> f32 {
+    if !FEATURE_SHEEN || max(max(m.sheen_color.x, m.sheen_color.y), m.sheen_color.z) <= 0.0 {
+        return 1.0;
+    }
+    return sheen_albedo_scaling(m.sheen_color, m.sheen_roughness, wo_z, wi_z);
+}
+
+// The sheen's luminance-weighted albedo for this view: its share in the lobe choice.
+fn brdf_sheen_estimate(m: BrdfMaterial, wo_z: f32) -> f32 {
+    if !FEATURE_SHEEN || max(max(m.sheen_color.x, m.sheen_color.y), m.sheen_color.z) <= 0.0 {
+        return 0.0;
+    }
+    return luminance(m.sheen_color) * sheen_albedo(m.sheen_roughness, wo_z);
+}
+
 // The probability of side a against side b (chiaro_shading's split): -1 (the Rust's NaN)
 // when both are 0, 0 or 1 when one is, else a / (a + b) kept off the ends.
 fn brdf_split(a: f32, b: f32) -> f32 {
@@ -161,25 +188,47 @@ fn brdf_split(a: f32, b: f32) -> f32 {
     return clamp(a / (a + b), MIN_LOBE_PROBABILITY, 1.0 - MIN_LOBE_PROBABILITY);
 }
 
-// Selection probabilities for this view: (coat, specular, diffuse, transmission), all 0 when
-// nothing reflects or transmits.
-fn brdf_lobe_probabilities(m: BrdfMaterial, wo_z: f32) -> vec4<f32> {
+// The lobes' selection probabilities for this view (chiaro_shading's LobeProbabilities), all
+// 0 when nothing reflects or transmits.
+struct BrdfLobeProbabilities {
+    coat: f32,
+    sheen: f32,
+    specular: f32,
+    diffuse: f32,
+    transmission: f32,
+}
+
+fn brdf_lobe_probabilities(m: BrdfMaterial, wo_z: f32) -> BrdfLobeProbabilities {
     let weights = brdf_fresnel(m, wo_z);
     let specular = luminance(weights.specular);
     let diffuse = luminance(weights.diffuse + weights.transmission);
     let coat = brdf_coat_weight(m, wo_z);
-    let p_coat = brdf_split(coat, brdf_base_weight(m, wo_z) * (specular + diffuse));
+    let sheen = brdf_sheen_estimate(m, wo_z);
+    let base = brdf_sheen_scaling(m, wo_z, wo_z) * (specular + diffuse);
+    var p = BrdfLobeProbabilities(0.0, 0.0, 0.0, 0.0, 0.0);
+    let p_coat = brdf_split(coat, brdf_base_weight(m, wo_z) * (sheen + base));
     if p_coat < 0.0 {
-        return vec4<f32>(0.0);
+        return p;
     }
+    p.coat = p_coat;
+    let p_sheen = brdf_split(sheen, base);
+    if p_sheen < 0.0 {
+        p.coat = 1.0;
+        return p;
+    }
+    let p_layer = 1.0 - p_coat;
     let p_specular = brdf_split(specular, diffuse);
     if p_specular < 0.0 {
-        return vec4<f32>(1.0, 0.0, 0.0, 0.0);
+        p.sheen = p_layer;
+        return p;
     }
-    let p_base = 1.0 - p_coat;
+    let p_base = p_layer * (1.0 - p_sheen);
     let beneath = p_base * (1.0 - p_specular);
-    return vec4<f32>(p_coat, p_base * p_specular, beneath * (1.0 - m.transmission),
-        beneath * m.transmission);
+    p.sheen = p_layer * p_sheen;
+    p.specular = p_base * p_specular;
+    p.diffuse = beneath * (1.0 - m.transmission);
+    p.transmission = beneath * m.transmission;
+    return p;
 }
 
 // The unit half vector of two directions above the surface, scaled by the largest component
@@ -199,6 +248,7 @@ fn brdf_half_vector(wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
 struct BrdfLobes {
     diffuse: vec3<f32>,
     specular: vec3<f32>,
+    sheen: vec3<f32>,
     coat: f32,
 }
 
@@ -216,6 +266,13 @@ fn brdf_lobes(m: BrdfMaterial, wo: vec3<f32>, wi: vec3<f32>) -> BrdfLobes {
     if FEATURE_CLEARCOAT && m.clearcoat > 0.0 && !m.coat_mirror {
         l.coat = ndf(h, m.coat_alpha) * visibility(wo, wi, m.coat_alpha);
     }
+    l.sheen = vec3<f32>(0.0);
+    if FEATURE_SHEEN && max(max(m.sheen_color.x, m.sheen_color.y), m.sheen_color.z) > 0.0 {
+        l.sheen = m.sheen_color * sheen_eval(m.sheen_roughness, wo, wi);
+        let scaling = brdf_sheen_scaling(m, wo.z, wi.z);
+        l.diffuse *= scaling;
+        l.specular *= scaling;
+    }
     return l;
 }
 
@@ -232,7 +289,7 @@ fn specular_probability(p: SurfaceParams, wo: vec3<f32>) -> f32 {
     if wo.z <= 0.0 {
         return 0.0;
     }
-    return brdf_lobe_probabilities(brdf_material(p), wo.z).y;
+    return brdf_lobe_probabilities(brdf_material(p), wo.z).specular;
 }
 
 // f(wo, wi) without the cosine: reflection for wi.z > 0, transmission for wi.z < 0; 0 when
@@ -247,24 +304,27 @@ fn brdf_eval(p: SurfaceParams, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
     }
     let l = brdf_lobes(m, wo, wi);
     let coat = brdf_coat_weight(m, wo.z);
-    return ((l.diffuse * INV_PI + l.specular) * brdf_base_weight(m, wo.z) + vec3<f32>(l.coat * coat))
-        * m.scale;
+    return ((l.diffuse * INV_PI + l.specular + l.sheen) * brdf_base_weight(m, wo.z)
+        + vec3<f32>(l.coat * coat)) * m.scale;
 }
 
 // The glossy lobes' pdf (specular and coat, selection included).
-fn brdf_glossy_lobes_pdf(m: BrdfMaterial, wo: vec3<f32>, wi: vec3<f32>, probabilities: vec4<f32>) -> f32 {
+fn brdf_glossy_lobes_pdf(m: BrdfMaterial, wo: vec3<f32>, wi: vec3<f32>, probabilities: BrdfLobeProbabilities) -> f32 {
     var pdf = 0.0;
-    if probabilities.y > 0.0 {
-        pdf += probabilities.y * brdf_glossy_pdf(m.mirror, m.alpha, wo, wi);
+    if FEATURE_SHEEN && probabilities.sheen > 0.0 {
+        pdf += probabilities.sheen * sheen_pdf(m.sheen_roughness, wo, wi);
     }
-    if FEATURE_CLEARCOAT && probabilities.x > 0.0 {
-        pdf += probabilities.x * brdf_glossy_pdf(m.coat_mirror, m.coat_alpha, wo, wi);
+    if probabilities.specular > 0.0 {
+        pdf += probabilities.specular * brdf_glossy_pdf(m.mirror, m.alpha, wo, wi);
+    }
+    if FEATURE_CLEARCOAT && probabilities.coat > 0.0 {
+        pdf += probabilities.coat * brdf_glossy_pdf(m.coat_mirror, m.coat_alpha, wo, wi);
     }
     return pdf;
 }
 
-fn brdf_combined_pdf(m: BrdfMaterial, wo: vec3<f32>, wi: vec3<f32>, probabilities: vec4<f32>) -> f32 {
-    return probabilities.z * (wi.z * INV_PI) + brdf_glossy_lobes_pdf(m, wo, wi, probabilities);
+fn brdf_combined_pdf(m: BrdfMaterial, wo: vec3<f32>, wi: vec3<f32>, probabilities: BrdfLobeProbabilities) -> f32 {
+    return probabilities.diffuse * (wi.z * INV_PI) + brdf_glossy_lobes_pdf(m, wo, wi, probabilities);
 }
 
 // The solid-angle pdf with which brdf_sample draws wi from its non-delta lobes (for
@@ -294,30 +354,32 @@ fn brdf_transmission_eval(m: BrdfMaterial, wo: vec3<f32>, wi: vec3<f32>) -> vec3
     let up = brdf_mirrored(wi);
     let h = brdf_half_vector(wo, up);
     let lobe = ndf(h, m.alpha) * visibility(wo, up, m.alpha);
-    return brdf_fresnel(m, dot(h, up)).transmission * (lobe * brdf_base_weight(m, wo.z) * m.scale);
+    let layers = brdf_base_weight(m, wo.z) * brdf_sheen_scaling(m, wo.z, up.z);
+    return brdf_fresnel(m, dot(h, up)).transmission * (lobe * layers * m.scale);
 }
 
-fn brdf_transmission_pdf(m: BrdfMaterial, wo: vec3<f32>, wi: vec3<f32>, probabilities: vec4<f32>) -> f32 {
-    if !FEATURE_TRANSMISSION || probabilities.w <= 0.0 || m.mirror {
+fn brdf_transmission_pdf(m: BrdfMaterial, wo: vec3<f32>, wi: vec3<f32>, probabilities: BrdfLobeProbabilities) -> f32 {
+    if !FEATURE_TRANSMISSION || probabilities.transmission <= 0.0 || m.mirror {
         return 0.0;
     }
     let up = brdf_mirrored(wi);
-    return probabilities.w * reflected_vndf_pdf(wo, brdf_half_vector(wo, up), m.alpha);
+    return probabilities.transmission * reflected_vndf_pdf(wo, brdf_half_vector(wo, up), m.alpha);
 }
 
 // The mirror direction's sample: every delta lobe (the base's specular, the coat) points the
 // same way, so it carries all of them over their summed selection probability.
-fn brdf_mirror_sample(m: BrdfMaterial, wo: vec3<f32>, probabilities: vec4<f32>) -> BrdfSample {
+fn brdf_mirror_sample(m: BrdfMaterial, wo: vec3<f32>, probabilities: BrdfLobeProbabilities) -> BrdfSample {
     let coat = brdf_coat_weight(m, wo.z);
     var weight = vec3<f32>(0.0);
     var pdf = 0.0;
-    if m.mirror && probabilities.y > 0.0 {
-        weight += brdf_fresnel(m, wo.z).specular * brdf_base_weight(m, wo.z);
-        pdf += probabilities.y;
+    if m.mirror && probabilities.specular > 0.0 {
+        weight += brdf_fresnel(m, wo.z).specular
+            * (brdf_base_weight(m, wo.z) * brdf_sheen_scaling(m, wo.z, wo.z));
+        pdf += probabilities.specular;
     }
-    if m.coat_mirror && probabilities.x > 0.0 {
+    if m.coat_mirror && probabilities.coat > 0.0 {
         weight += vec3<f32>(coat);
-        pdf += probabilities.x;
+        pdf += probabilities.coat;
     }
     var s: BrdfSample;
     s.wi = vec3<f32>(-wo.x, -wo.y, wo.z);
@@ -328,8 +390,8 @@ fn brdf_mirror_sample(m: BrdfMaterial, wo: vec3<f32>, probabilities: vec4<f32>) 
     return s;
 }
 
-// Draws wi for the view wo: u_lobe picks the lobe (coat, then specular, then diffuse), u
-// drives its warp. Invalid (the Rust's None) when wo.z <= 0, when nothing reflects, or when
+// Draws wi for the view wo: u_lobe picks the lobe (coat, sheen, specular, transmission, then
+// diffuse), u drives its warp. Invalid (the Rust's None) when wo.z <= 0, when nothing reflects, or when
 // the direction drawn is at or below the horizon.
 fn brdf_sample(p: SurfaceParams, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>) -> BrdfSample {
     var s: BrdfSample;
@@ -340,22 +402,25 @@ fn brdf_sample(p: SurfaceParams, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>) -> Br
     }
     let m = brdf_material(p);
     let probabilities = brdf_lobe_probabilities(m, wo.z);
-    let p_coat = probabilities.x;
-    let p_specular = probabilities.y;
-    let p_diffuse = probabilities.z;
-    let p_transmission = probabilities.w;
-    if p_coat <= 0.0 && p_specular <= 0.0 && p_diffuse <= 0.0 && p_transmission <= 0.0 {
+    let p_coat = probabilities.coat;
+    let p_sheen = probabilities.sheen;
+    let p_specular = probabilities.specular;
+    let p_diffuse = probabilities.diffuse;
+    let p_transmission = probabilities.transmission;
+    if p_coat + p_sheen + p_specular + p_diffuse + p_transmission <= 0.0 {
         return s;
     }
+    let u_base = u_lobe - p_coat - p_sheen;
     let coat_lobe = u_lobe < p_coat;
-    let specular_lobe = !coat_lobe && u_lobe - p_coat < p_specular;
-    let transmission_lobe = FEATURE_TRANSMISSION && !coat_lobe && !specular_lobe
-        && u_lobe - p_coat - p_specular < p_transmission;
+    let sheen_lobe = FEATURE_SHEEN && !coat_lobe && u_lobe - p_coat < p_sheen;
+    let specular_lobe = !coat_lobe && !sheen_lobe && u_base < p_specular;
+    let transmission_lobe = FEATURE_TRANSMISSION && !coat_lobe && !sheen_lobe && !specular_lobe
+        && u_base - p_specular < p_transmission;
     if transmission_lobe && m.mirror {
         // A smooth thin-walled surface transmits straight through: a delta along -wo.
         s.wi = -wo;
-        s.weight = brdf_fresnel(m, wo.z).transmission * brdf_base_weight(m, wo.z) * m.scale
-            / p_transmission;
+        let layers = brdf_base_weight(m, wo.z) * brdf_sheen_scaling(m, wo.z, wo.z);
+        s.weight = brdf_fresnel(m, wo.z).transmission * layers * m.scale / p_transmission;
         s.pdf = p_transmission;
         s.delta = true;
         s.valid = true;
@@ -369,6 +434,12 @@ fn brdf_sample(p: SurfaceParams, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>) -> Br
         // One VNDF call for the glossy lobes (lavapipe runs every arm of a branch).
         let h = sample_vndf(wo, select(m.alpha, m.coat_alpha, coat_lobe), u);
         wi = 2.0 * dot(wo, h) * h - wo;
+    } else if sheen_lobe {
+        let drawn = sheen_sample(m.sheen_roughness, wo, u);
+        if !drawn.valid {
+            return s;
+        }
+        wi = drawn.wi;
     } else {
         wi = cosine_hemisphere(u);
     }
@@ -395,7 +466,7 @@ fn brdf_sample(p: SurfaceParams, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>) -> Br
     // f cos / pdf divided through by cos / pi: finite as wi.z -> 0.
     let l = brdf_lobes(m, wo, wi);
     let coat = brdf_coat_weight(m, wo.z);
-    let numerator = ((l.diffuse + l.specular * PI) * brdf_base_weight(m, wo.z)
+    let numerator = ((l.diffuse + (l.specular + l.sheen) * PI) * brdf_base_weight(m, wo.z)
         + vec3<f32>(l.coat * coat * PI)) * m.scale;
     let denominator = p_diffuse + brdf_glossy_lobes_pdf(m, wo, wi, probabilities) * PI / wi.z;
     s.wi = wi;

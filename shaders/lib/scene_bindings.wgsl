@@ -51,6 +51,8 @@ struct GpuMaterial {
     clearcoat: f32,
     specular_color: vec3<f32>,
     clearcoat_roughness: f32,
+    sheen_color: vec3<f32>,
+    sheen_roughness: f32,
     transmission: f32,
     pad0: u32,
     pad1: u32,
@@ -164,22 +166,23 @@ fn scene_index(i: u32) -> u32 {
     return texel_array_load(scene_index_texels, i >> 2u)[i & 3u];
 }
 
-// Material i (18 texels: 6 of factors, then 3 for each texture slot). The shaders read a few
+// Material i (19 texels: 7 of factors, then 3 for each texture slot). The shaders read a few
 // fields of it; the fetches of the others are dead code.
 fn scene_material(i: u32) -> GpuMaterial {
-    let first = 18u * i;
+    let first = 19u * i;
     let base_color = bitcast<vec4<f32>>(texel_array_load(scene_material_texels, first));
     let emission = texel_array_load(scene_material_texels, first + 1u);
     let factors = bitcast<vec4<f32>>(texel_array_load(scene_material_texels, first + 2u));
     let tail = texel_array_load(scene_material_texels, first + 3u);
     let specular_color = texel_array_load(scene_material_texels, first + 4u);
-    let layers = texel_array_load(scene_material_texels, first + 5u);
+    let sheen = bitcast<vec4<f32>>(texel_array_load(scene_material_texels, first + 5u));
+    let layers = texel_array_load(scene_material_texels, first + 6u);
     return GpuMaterial(base_color, bitcast<vec3<f32>>(emission.xyz), bitcast<f32>(emission.w),
         factors.x, factors.y, factors.z, factors.w, bitcast<f32>(tail.x), tail.y,
         bitcast<f32>(tail.z), bitcast<f32>(tail.w), bitcast<vec3<f32>>(specular_color.xyz),
-        bitcast<f32>(specular_color.w), bitcast<f32>(layers.x), layers.y, layers.z, layers.w,
-        scene_texture_slot(first + 6u), scene_texture_slot(first + 9u),
-        scene_texture_slot(first + 12u), scene_texture_slot(first + 15u));
+        bitcast<f32>(specular_color.w), sheen.xyz, sheen.w, bitcast<f32>(layers.x), layers.y,
+        layers.z, layers.w, scene_texture_slot(first + 7u), scene_texture_slot(first + 10u),
+        scene_texture_slot(first + 13u), scene_texture_slot(first + 16u));
 }
 
 // The texture slot at material texel `first` (3 texels).

@@ -82,7 +82,8 @@ fn gbuffer_shading(g: GbufferSurface, camera: GpuCamera) -> Shading {
     s.wo = frame_to_local(s.frame, to_eye);
     s.params = SurfaceParams(g.base_color, g.metallic, g.roughness, material.f0_dielectric,
         material.specular, material.specular_color, material.clearcoat,
-        material.clearcoat_roughness, material.transmission, material.absorption);
+        material.clearcoat_roughness, material.transmission, material.sheen_color,
+        material.sheen_roughness, material.absorption);
     return s;
 }
 
@@ -130,7 +131,8 @@ fn surface_at_hit(direction: vec3<f32>, hit: Hit) -> SurfaceHit {
         clamp(material.metallic * metallic_roughness.z, 0.0, 1.0),
         clamp(material.roughness * metallic_roughness.y, 0.0, 1.0), material.f0_dielectric,
         material.specular, material.specular_color, material.clearcoat,
-        material.clearcoat_roughness, material.transmission, material.absorption);
+        material.clearcoat_roughness, material.transmission, material.sheen_color,
+        material.sheen_roughness, material.absorption);
     return SurfaceHit(s, normals.shades);
 }
 

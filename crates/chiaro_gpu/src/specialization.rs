@@ -76,9 +76,11 @@ impl PipelineFeatures {
     /// Transmissive materials (KHR_materials_transmission): their lobe is evaluated and
     /// sampled, and rays and light samples pass through them.
     pub const TRANSMISSION: Self = Self(1 << 15);
+    /// A sheen (KHR_materials_sheen) is layered over the base in the BRDF.
+    pub const SHEEN: Self = Self(1 << 16);
 
     /// Every flag, in bit order.
-    pub const FLAGS: [FeatureFlag; 16] = [
+    pub const FLAGS: [FeatureFlag; 17] = [
         flag(
             Self::BASE_COLOR_TEXTURES,
             "FEATURE_BASE_COLOR_TEXTURES",
@@ -147,6 +149,7 @@ impl PipelineFeatures {
             "FEATURE_TRANSMISSION",
             "transmissive materials",
         ),
+        flag(Self::SHEEN, "FEATURE_SHEEN", "sheen"),
     ];
 
     /// No feature.
@@ -174,6 +177,7 @@ impl PipelineFeatures {
         add(features.alpha_blend, Self::ALPHA_BLEND);
         add(features.clearcoat, Self::CLEARCOAT);
         add(features.transmission, Self::TRANSMISSION);
+        add(features.sheen, Self::SHEEN);
         add(features.point_lights, Self::POINT_LIGHTS);
         add(features.spot_lights, Self::SPOT_LIGHTS);
         add(features.directional_lights, Self::DIRECTIONAL_LIGHTS);

@@ -1,6 +1,7 @@
 //! Material extensions on the GPU against the CPU reference: clear-coated spheres (a rough coat
 //! and a mirror coat over coloured bases), a KHR_materials_specular sphere (tinted, half
-//! strength) and a thin-walled transmissive one (KHR_materials_transmission) under a white sky. The GPU reference mode must agree with the CPU reference within
+//! strength), a thin-walled transmissive one (KHR_materials_transmission) and a sheen over a dark
+//! base (KHR_materials_sheen) under a white sky. The GPU reference mode must agree with the CPU reference within
 //! three times the two images' combined noise (relMSE over the spheres' pixels), and the
 //! realtime frame within 0.05 (its denoiser blurs). The clearcoat pipeline feature is on only
 //! for this scene: the coat code is compiled in when a used material has one.
@@ -43,11 +44,17 @@ fn spheres() -> World {
         transmission: 0.9,
         ..Material::diffuse("rough glass", Vec3::new(0.9, 0.95, 1.0), 0.25)
     };
+    let velvet = Material {
+        sheen_color: Vec3::new(0.9, 0.5, 0.7),
+        sheen_roughness: 0.5,
+        ..Material::diffuse("velvet", Vec3::new(0.2, 0.05, 0.1), 0.8)
+    };
     for (x, material) in [
-        (-1.65, rough_coat),
-        (-0.55, mirror_coat),
-        (0.55, specular),
-        (1.65, glass),
+        (-2.2, rough_coat),
+        (-1.1, mirror_coat),
+        (0.0, specular),
+        (1.1, glass),
+        (2.2, velvet),
     ] {
         let id = b.add_material(material);
         b.add_instance(
@@ -57,7 +64,7 @@ fn spheres() -> World {
             Transform::from_translation(Vec3::new(x, 0.0, 0.0)).with_scale(Vec3::splat(0.5)),
         );
     }
-    common::spawn_under_white_sky(b, Vec3::new(0.0, 0.8, 5.5))
+    common::spawn_under_white_sky(b, Vec3::new(0.0, 1.0, 7.0))
 }
 
 #[test]
@@ -77,7 +84,7 @@ fn coats_specular_tints_and_glass_match_the_cpu_reference() {
     let g = renderer.read_gbuffer().unwrap();
     let features = *world.resource::<SceneFeatures>();
     assert!(
-        features.clearcoat && features.transmission,
+        features.clearcoat && features.transmission && features.sheen,
         "the scene's features: {features:?}"
     );
     let b = renderer

@@ -94,6 +94,8 @@ fn scene_records_match_their_wgsl_structs() {
             clearcoat,
             specular_color,
             clearcoat_roughness,
+            sheen_color,
+            sheen_roughness,
             transmission,
             pad0,
             pad1,

@@ -219,6 +219,8 @@ pub fn surface_at(scene: &RenderScene, ray: &Ray, hit: &Hit) -> SurfaceHit {
         clearcoat: material.clearcoat,
         clearcoat_roughness: material.clearcoat_roughness,
         transmission: material.transmission,
+        sheen_color: material.sheen_color,
+        sheen_roughness: material.sheen_roughness,
         absorption: material.absorption,
     };
     let emission = if shades {

@@ -51,6 +51,8 @@ pub struct SceneFeatures {
     pub clearcoat: bool,
     /// Some used material transmits light (KHR_materials_transmission).
     pub transmission: bool,
+    /// Some used material has a sheen (KHR_materials_sheen).
+    pub sheen: bool,
     /// Some used material is double-sided.
     pub double_sided: bool,
     /// The scene has a point light of non-zero intensity.
@@ -124,6 +126,7 @@ impl SceneFeatures {
         self.alpha_blend |= m.alpha_mode == AlphaMode::Blend;
         self.clearcoat |= m.clearcoat > 0.0;
         self.transmission |= m.transmission > 0.0;
+        self.sheen |= m.sheen_color.max_element() > 0.0;
         self.double_sided |= m.double_sided;
         self.emissive_triangles |= m.is_emissive();
     }
@@ -149,6 +152,7 @@ impl SceneFeatures {
             (self.vertex_colors, "vertex colours"),
             (self.clearcoat, "clear coats"),
             (self.transmission, "transmission"),
+            (self.sheen, "sheen"),
             (self.double_sided, "double-sided materials"),
             (self.point_lights, "point lights"),
             (self.spot_lights, "spot lights"),

@@ -120,6 +120,11 @@ pub struct Material {
     /// the dielectric's diffuse base transmitted through the surface, which is thin-walled.
     /// A transmissive surface shades both faces ([`Material::shades_both_sides`]).
     pub transmission: f32,
+    /// KHR_materials_sheen's sheenColorFactor (linear, each channel in [0, 1]; black when
+    /// absent: no sheen).
+    pub sheen_color: Vec3,
+    /// KHR_materials_sheen's sheenRoughnessFactor in [0, 1] (0 when absent).
+    pub sheen_roughness: f32,
     /// The notes' energy absorption factor in [0, 1]: the BRDF is scaled by (1 - absorption).
     /// Read from the material's glTF `extras` as `{"absorption": x}`; 0 when absent.
     pub absorption: f32,
@@ -149,6 +154,8 @@ impl Default for Material {
             clearcoat: 0.0,
             clearcoat_roughness: 0.0,
             transmission: 0.0,
+            sheen_color: Vec3::ZERO,
+            sheen_roughness: 0.0,
             absorption: 0.0,
         }
     }

@@ -1,13 +1,14 @@
 //! The glTF 2.0 metallic-roughness BRDF exactly as the specification's Appendix B defines it,
-//! with KHR_materials_specular's and KHR_materials_clearcoat's parameters, in the local shading
-//! frame (z = shading normal; `wo` and `wi` are unit vectors pointing away from the surface):
+//! with the parameters of KHR_materials_specular, KHR_materials_clearcoat, KHR_materials_sheen
+//! and KHR_materials_transmission (thin-walled, [`transmission`]), in the local shading frame (z = shading normal; `wo` and `wi` are unit vectors pointing away from the surface):
 //!
 //! - dielectric = fresnel_mix: (1 - specular max(F_d)) base_color / pi + specular F_d D V,
 //!   F_d = Schlick at h.wi with F0 = min(f0_ior specular_color, 1) and F90 = 1
 //!   (KHR_materials_specular's form of fresnel_mix; without the extension specular = 1 and
 //!   specular_color = 1, which is the core spec's mix(diffuse, specular, F_d));
 //! - metal = F_m D V, F_m = Schlick at h.wi with F0 = base_color and F90 = 1 (conductor_fresnel);
-//! - base = mix(dielectric, metal, metallic);
+//! - base = mix(dielectric, metal, metallic), under KHR_materials_sheen's layer when the
+//!   material has one: sheen_color Charlie(wo, wi) + base albedo_scaling ([`crate::sheen`]);
 //! - f = (1 - absorption) fresnel_coat: mix(base, coat D_c V_c, clearcoat F_c(n.wo)), with
 //!   KHR_materials_clearcoat's coat a GGX lobe of its own roughness and F_c Schlick with F0
 //!   0.04 (without the extension clearcoat = 0 and f is the base alone). The coat shares the
@@ -56,6 +57,7 @@ use glam::{Vec2, Vec3};
 use crate::color::luminance;
 use crate::ggx;
 use crate::sampling::cosine_hemisphere;
+use crate::sheen;
 
 /// Below this alpha (= roughness^2, i.e. roughness below about 0.0316) the specular lobe is a
 /// perfect mirror: a delta lobe that [`eval`] and [`pdf`] leave out and [`sample`] returns with
@@ -108,6 +110,11 @@ pub struct SurfaceParams {
     /// KHR_materials_transmission's factor: the share of the dielectric's diffuse base that is
     /// transmitted through the (thin-walled) surface instead; clamped to [0, 1].
     pub transmission: f32,
+    /// KHR_materials_sheen's colour (linear, black without the extension: no sheen); clamped
+    /// to [0, 1] per channel.
+    pub sheen_color: Vec3,
+    /// KHR_materials_sheen's roughness ([`crate::sheen`]); clamped to [0, 1].
+    pub sheen_roughness: f32,
     /// Fraction of energy absorbed: f is scaled by (1 - absorption). Clamped to [0, 1].
     pub absorption: f32,
 }
@@ -125,6 +132,8 @@ impl Default for SurfaceParams {
             clearcoat: 0.0,
             clearcoat_roughness: 0.0,
             transmission: 0.0,
+            sheen_color: Vec3::ZERO,
+            sheen_roughness: 0.0,
             absorption: 0.0,
         }
     }
@@ -177,6 +186,9 @@ struct Material {
     coat_mirror: bool,
     /// KHR_materials_transmission's factor.
     transmission: f32,
+    /// KHR_materials_sheen's colour (black: no sheen).
+    sheen_color: Vec3,
+    sheen_roughness: f32,
 }
 
 /// The Fresnel weights of the lobes at one cosine: the specular lobe's colour, the diffuse
@@ -194,6 +206,8 @@ struct FresnelWeights {
 pub struct LobeProbabilities {
     /// The clear coat's.
     pub coat: f32,
+    /// The sheen's.
+    pub sheen: f32,
     /// The base's specular lobe's.
     pub specular: f32,
     /// The diffuse lobe's.
@@ -208,6 +222,7 @@ pub fn lobe_probabilities(p: &SurfaceParams, wo: Vec3) -> LobeProbabilities {
     if wo.z <= 0.0 {
         return LobeProbabilities {
             coat: 0.0,
+            sheen: 0.0,
             specular: 0.0,
             diffuse: 0.0,
             transmission: 0.0,
@@ -234,6 +249,8 @@ impl Material {
             coat_alpha,
             coat_mirror: coat_alpha < MIRROR_ALPHA,
             transmission: p.transmission.clamp(0.0, 1.0),
+            sheen_color: p.sheen_color.clamp(Vec3::ZERO, Vec3::ONE),
+            sheen_roughness: p.sheen_roughness.clamp(0.0, 1.0),
         }
     }
 
@@ -276,40 +293,66 @@ impl Material {
         (1.0 - self.clearcoat) + self.clearcoat * (1.0 - COAT_F0) * one_minus_m5
     }
 
-    /// Selection probabilities for this view: the coat against the base by their weights at
-    /// n.wo, then within the base the specular lobe against the diffuse one by the luminance
-    /// of their Fresnel weights; each split kept in [`MIN_LOBE_PROBABILITY`],
-    /// 1 - [`MIN_LOBE_PROBABILITY`] when both sides exist, exactly 0 or 1 when only one does.
+    /// KHR_materials_sheen's albedo scaling of the base beneath the sheen
+    /// ([`crate::sheen::albedo_scaling`]); exactly 1 without a sheen.
+    fn sheen_scaling(&self, wo_z: f32, wi_z: f32) -> f32 {
+        if self.sheen_color.max_element() <= 0.0 {
+            return 1.0;
+        }
+        sheen::albedo_scaling(self.sheen_color, self.sheen_roughness, wo_z, wi_z)
+    }
+
+    /// The sheen lobe's albedo for this view, luminance-weighted: its share in the lobe choice.
+    fn sheen_estimate(&self, wo_z: f32) -> f32 {
+        if self.sheen_color.max_element() <= 0.0 {
+            return 0.0;
+        }
+        luminance(self.sheen_color) * sheen::albedo(self.sheen_roughness, wo_z)
+    }
+
+    /// Selection probabilities for this view: the coat against the rest by their weights at
+    /// n.wo, then the sheen against the base beneath it, then within the base the specular
+    /// lobe against the diffuse one (and transmission) by the luminance of their Fresnel
+    /// weights; each split kept in [`MIN_LOBE_PROBABILITY`], 1 - [`MIN_LOBE_PROBABILITY`] when
+    /// both sides exist, exactly 0 or 1 when only one does.
     fn lobe_probabilities(&self, wo_z: f32) -> LobeProbabilities {
         let weights = self.fresnel(wo_z);
         let specular = luminance(weights.specular);
         let diffuse = luminance(weights.diffuse + weights.transmission);
         let coat = self.coat_weight(wo_z);
-        let base = self.base_weight(wo_z) * (specular + diffuse);
-        let p_coat = split(coat, base);
-        let p_specular = split(specular, diffuse);
+        let sheen = self.sheen_estimate(wo_z);
+        let base = self.sheen_scaling(wo_z, wo_z) * (specular + diffuse);
+        let p_coat = split(coat, self.base_weight(wo_z) * (sheen + base));
+        let none = LobeProbabilities {
+            coat: 0.0,
+            sheen: 0.0,
+            specular: 0.0,
+            diffuse: 0.0,
+            transmission: 0.0,
+        };
         if p_coat.is_nan() {
-            return LobeProbabilities {
-                coat: 0.0,
-                specular: 0.0,
-                diffuse: 0.0,
-                transmission: 0.0,
-            };
+            return none;
         }
-        let p_base = 1.0 - p_coat;
+        let p_sheen = split(sheen, base);
+        if p_sheen.is_nan() {
+            return LobeProbabilities { coat: 1.0, ..none };
+        }
+        let p_specular = split(specular, diffuse);
+        let p_layer = 1.0 - p_coat;
         if p_specular.is_nan() {
             return LobeProbabilities {
-                coat: 1.0,
-                specular: 0.0,
-                diffuse: 0.0,
-                transmission: 0.0,
+                coat: p_coat,
+                sheen: p_layer,
+                ..none
             };
         }
+        let p_base = p_layer * (1.0 - p_sheen);
         // Beneath the specular layer the diffuse and transmission weights differ only by
         // (1 - transmission) against transmission.
         let beneath = p_base * (1.0 - p_specular);
         LobeProbabilities {
             coat: p_coat,
+            sheen: p_layer * p_sheen,
             specular: p_base * p_specular,
             diffuse: beneath * (1.0 - self.transmission),
             transmission: beneath * self.transmission,
@@ -350,10 +393,12 @@ fn half_vector(wo: Vec3, wi: Vec3) -> Vec3 {
 /// The lobes of f for wo, wi above the surface, without the (1 - absorption) scale and the
 /// coat's blend, with the diffuse lobe times pi (so it is exactly the diffuse albedo).
 struct Lobes {
-    /// pi f_diffuse.
+    /// pi f_diffuse, times the sheen's albedo scaling.
     diffuse: Vec3,
-    /// f_specular.
+    /// f_specular, times the sheen's albedo scaling.
     specular: Vec3,
+    /// The sheen's f: sheen_color times the Charlie lobe.
+    sheen: Vec3,
     /// The coat's D V (0 for a mirror coat, whose delta is no part of f).
     coat: f32,
 }
@@ -371,9 +416,18 @@ fn lobes(m: &Material, wo: Vec3, wi: Vec3) -> Lobes {
     } else {
         ggx::ndf(h, m.coat_alpha) * ggx::visibility(wo, wi, m.coat_alpha)
     };
+    let (sheen, scaling) = if m.sheen_color.max_element() <= 0.0 {
+        (Vec3::ZERO, 1.0)
+    } else {
+        (
+            m.sheen_color * sheen::eval(m.sheen_roughness, wo, wi),
+            m.sheen_scaling(wo.z, wi.z),
+        )
+    };
     Lobes {
-        diffuse: weights.diffuse,
-        specular,
+        diffuse: weights.diffuse * scaling,
+        specular: specular * scaling,
+        sheen,
         coat,
     }
 }
@@ -412,7 +466,8 @@ pub fn eval(p: &SurfaceParams, wo: Vec3, wi: Vec3) -> Vec3 {
     }
     let l = lobes(&m, wo, wi);
     let coat = m.coat_weight(wo.z);
-    ((l.diffuse * FRAC_1_PI + l.specular) * m.base_weight(wo.z) + Vec3::splat(l.coat * coat))
+    ((l.diffuse * FRAC_1_PI + l.specular + l.sheen) * m.base_weight(wo.z)
+        + Vec3::splat(l.coat * coat))
         * m.scale
 }
 
@@ -431,9 +486,13 @@ pub fn pdf(p: &SurfaceParams, wo: Vec3, wi: Vec3) -> f32 {
     combined_pdf(&m, wo, wi, probabilities)
 }
 
-/// The pdf of the glossy lobes (specular and coat, selection included), without the diffuse.
+/// The pdf of the reflection lobes other than the diffuse one (specular, coat, sheen; selection
+/// included).
 fn glossy_lobes_pdf(m: &Material, wo: Vec3, wi: Vec3, p: LobeProbabilities) -> f32 {
     let mut pdf = 0.0;
+    if p.sheen > 0.0 {
+        pdf += p.sheen * sheen::pdf(m.sheen_roughness, wo, wi);
+    }
     if p.specular > 0.0 {
         pdf += p.specular * glossy_pdf(m.mirror, m.alpha, wo, wi);
     }
@@ -454,7 +513,7 @@ fn mirror_sample(m: &Material, wo: Vec3, p: LobeProbabilities) -> BrdfSample {
     let coat = m.coat_weight(wo.z);
     let (mut weight, mut pdf) = (Vec3::ZERO, 0.0);
     if m.mirror && p.specular > 0.0 {
-        weight += m.fresnel(wo.z).specular * m.base_weight(wo.z);
+        weight += m.fresnel(wo.z).specular * (m.base_weight(wo.z) * m.sheen_scaling(wo.z, wo.z));
         pdf += p.specular;
     }
     if m.coat_mirror && p.coat > 0.0 {
@@ -470,8 +529,8 @@ fn mirror_sample(m: &Material, wo: Vec3, p: LobeProbabilities) -> BrdfSample {
 }
 
 /// Draws an incident direction for the view `wo` (local frame): `u_lobe` picks the lobe (the
-/// coat below its probability, then the specular lobe below [`specular_probability`] more, then
-/// the transmission lobe, then the diffuse one), `u` drives that lobe's warp. A transmitted
+/// coat below its probability, then the sheen, then the specular lobe below
+/// [`specular_probability`] more, then the transmission lobe, then the diffuse one), `u` drives that lobe's warp. A transmitted
 /// direction has wi.z < 0. `None` when wo.z <= 0, when the material reflects nothing, or
 /// when the direction drawn is at or below the horizon (the visible-normal reflection can point
 /// below it; that probability mass is simply lost, and [`pdf`] does not count it).
@@ -483,26 +542,31 @@ pub fn sample(p: &SurfaceParams, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BrdfS
     let probabilities = m.lobe_probabilities(wo.z);
     let LobeProbabilities {
         coat: p_coat,
+        sheen: p_sheen,
         specular: p_specular,
         diffuse: p_diffuse,
         transmission: p_transmission,
     } = probabilities;
-    if p_coat <= 0.0 && p_specular <= 0.0 && p_diffuse <= 0.0 && p_transmission <= 0.0 {
+    if p_coat + p_sheen + p_specular + p_diffuse + p_transmission <= 0.0 {
         return None;
     }
+    // The lobes in order: coat, sheen, specular, transmission, diffuse.
+    let u_base = u_lobe - p_coat - p_sheen;
     let wi = if u_lobe < p_coat {
         if m.coat_mirror {
             return Some(mirror_sample(&m, wo, probabilities));
         }
         let h = ggx::sample_vndf(wo, m.coat_alpha, u);
         2.0 * wo.dot(h) * h - wo
-    } else if u_lobe - p_coat < p_specular {
+    } else if u_lobe - p_coat < p_sheen {
+        sheen::sample(m.sheen_roughness, wo, u)?.0
+    } else if u_base < p_specular {
         if m.mirror {
             return Some(mirror_sample(&m, wo, probabilities));
         }
         let h = ggx::sample_vndf(wo, m.alpha, u);
         2.0 * wo.dot(h) * h - wo
-    } else if u_lobe - p_coat - p_specular < p_transmission {
+    } else if u_base - p_specular < p_transmission {
         return m.transmission_sample(wo, u, probabilities);
     } else {
         cosine_hemisphere(u)
@@ -518,7 +582,7 @@ pub fn sample(p: &SurfaceParams, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BrdfS
     // is exactly the diffuse albedo for a purely diffuse material.
     let l = lobes(&m, wo, wi);
     let coat = m.coat_weight(wo.z);
-    let numerator = ((l.diffuse + l.specular * PI) * m.base_weight(wo.z)
+    let numerator = ((l.diffuse + (l.specular + l.sheen) * PI) * m.base_weight(wo.z)
         + Vec3::splat(l.coat * coat * PI))
         * m.scale;
     let denominator = p_diffuse + glossy_lobes_pdf(&m, wo, wi, probabilities) * PI / wi.z;

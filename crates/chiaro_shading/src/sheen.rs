@@ -1,8 +1,8 @@
 //! KHR_materials_sheen's sheen lobe and its albedo-scaling layer, in the local shading frame
-//! (z = shading normal; `wo` and `wi` unit vectors pointing away from the surface). A building
-//! block: [`crate::brdf`] does not call it yet; the BRDF's integration uses [`eval`], [`pdf`],
-//! [`sample`] and [`albedo_scaling`] (and [`albedo`] through it), and `shaders/lib/sheen.wgsl`
-//! mirrors every function here.
+//! (z = shading normal; `wo` and `wi` unit vectors pointing away from the surface).
+//! [`crate::brdf`] layers it between its base and its clear coat through [`eval`], [`pdf`],
+//! [`sample`], [`albedo`] and [`albedo_scaling`], and `shaders/lib/sheen.wgsl` mirrors every
+//! function here.
 //!
 //! The lobe, for sheen colour 1 and sheen roughness r (alpha = r^2), is
 //! f = D(h) V(wo, wi) (the spec's sheen Fresnel is 1):

@@ -130,6 +130,8 @@ pub fn material(m: &Material) -> GpuMaterial {
         clearcoat: m.clearcoat,
         specular_color: m.specular_color.to_array(),
         clearcoat_roughness: m.clearcoat_roughness,
+        sheen_color: m.sheen_color.to_array(),
+        sheen_roughness: m.sheen_roughness,
         transmission: m.transmission,
         pad0: 0,
         pad1: 0,

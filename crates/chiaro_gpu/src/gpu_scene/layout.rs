@@ -185,6 +185,10 @@ pub struct GpuMaterial {
     pub specular_color: [f32; 3],
     /// The clear coat's roughness.
     pub clearcoat_roughness: f32,
+    /// KHR_materials_sheen's colour (black: no sheen).
+    pub sheen_color: [f32; 3],
+    /// KHR_materials_sheen's roughness.
+    pub sheen_roughness: f32,
     /// KHR_materials_transmission's factor (0: opaque).
     pub transmission: f32,
     /// Padding, zero.
@@ -352,7 +356,7 @@ mod tests {
     #[test]
     fn sizes_are_multiples_of_their_alignment() {
         assert_eq!(size_of::<GpuVertex>(), 64);
-        assert_eq!(size_of::<GpuMaterial>(), 288);
+        assert_eq!(size_of::<GpuMaterial>(), 304);
         assert_eq!(size_of::<GpuLight>(), 64);
         assert_eq!(size_of::<GpuInstanceExtra>(), 64);
         assert_eq!(size_of::<GpuSceneInfo>(), 64);

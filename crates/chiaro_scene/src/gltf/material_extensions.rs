@@ -1,5 +1,5 @@
 //! Material extensions read from a material's `extensions` JSON: KHR_materials_specular,
-//! KHR_materials_clearcoat and KHR_materials_transmission (thin-walled: a
+//! KHR_materials_clearcoat, KHR_materials_sheen and KHR_materials_transmission (thin-walled: a
 //! KHR_materials_volume that would make it a volume is reported and not read). Each factor is checked against its range; a value outside it is
 //! repaired with a line that says so, never trusted. Their textures are not read yet: a file
 //! that names one gets a repair line saying that the factor alone is used.
@@ -105,6 +105,45 @@ impl MaterialImporter<'_> {
                 "KHR_materials_volume is not read: the surface is rendered thin-walled".into(),
             );
         }
+    }
+
+    /// KHR_materials_sheen: `sheenColorFactor`, three numbers in [0, 1] (default black: no
+    /// sheen), and `sheenRoughnessFactor` in [0, 1] (default 0).
+    pub(super) fn read_sheen(&mut self, element: &str, m: &gltf::Material, out: &mut Material) {
+        let Some(ext) = m.extension_value("KHR_materials_sheen") else {
+            return;
+        };
+        if let Some(value) = ext.get("sheenColorFactor") {
+            let channels: Option<Vec<f64>> = value
+                .as_array()
+                .filter(|a| a.len() == 3)
+                .and_then(|a| a.iter().map(|c| c.as_f64()).collect());
+            match channels {
+                Some(c) if c.iter().all(|c| c.is_finite()) => {
+                    let color = Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32);
+                    out.sheen_color = color.clamp(Vec3::ZERO, Vec3::ONE);
+                    if out.sheen_color != color {
+                        self.repair(
+                            element.into(),
+                            format!("sheen colour {color} clamped to [0, 1]"),
+                        );
+                    }
+                }
+                _ => self.repair(
+                    element.into(),
+                    format!("sheen colour {value} is not three numbers: no sheen"),
+                ),
+            }
+        }
+        if let Some(f) = self.unit_factor(element, ext, "sheenRoughnessFactor", "sheen roughness") {
+            out.sheen_roughness = f;
+        }
+        self.textures_not_read(
+            element,
+            ext,
+            "KHR_materials_sheen",
+            &["sheenColorTexture", "sheenRoughnessTexture"],
+        );
     }
 
     /// The number `field` of `ext` in [0, 1]: a finite number outside is clamped, anything

@@ -184,6 +184,7 @@ impl<'a> MaterialImporter<'a> {
         self.read_specular(&element, m, &mut material);
         self.read_clearcoat(&element, m, &mut material);
         self.read_transmission(&element, m, &mut material);
+        self.read_sheen(&element, m, &mut material);
         self.sanitize_factors(&element, &mut material);
         material
     }

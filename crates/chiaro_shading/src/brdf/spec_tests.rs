@@ -42,13 +42,31 @@ fn spec_brdf(p: &SurfaceParams, wo: DVec3, wi: DVec3) -> DVec3 {
     let coat_weight = p.clearcoat.clamp(0.0, 1.0) as f64 * (0.04 + 0.96 * (1.0 - n_v).powi(5));
     let absorption = 1.0 - p.absorption.clamp(0.0, 1.0) as f64;
     if below {
-        let transmitted = beneath * (transmission * d * v) * (1.0 - metallic);
+        let scaling = if p.sheen_color.max_element() > 0.0 {
+            crate::sheen::albedo_scaling(p.sheen_color, p.sheen_roughness, n_v as f32, n_l as f32)
+                as f64
+        } else {
+            1.0
+        };
+        let transmitted = beneath * (transmission * d * v * scaling) * (1.0 - metallic);
         return transmitted * (1.0 - coat_weight) * absorption;
     }
     let dielectric =
         beneath * ((1.0 - transmission) * std::f64::consts::FRAC_1_PI) + fr * (weight * d * v);
     let metal = schlick(c) * (d * v);
-    let base = dielectric * (1.0 - metallic) + metal * metallic;
+    // KHR_materials_sheen's layer over the base (the Charlie lobe itself is checked against
+    // its formula in crate::sheen's tests).
+    let (wo32, wi32) = (wo.as_vec3(), wi.as_vec3());
+    let (sheen, scaling) = if p.sheen_color.max_element() > 0.0 {
+        (
+            p.sheen_color.clamp(Vec3::ZERO, Vec3::ONE).as_dvec3()
+                * crate::sheen::eval(p.sheen_roughness, wo32, wi32) as f64,
+            crate::sheen::albedo_scaling(p.sheen_color, p.sheen_roughness, wo32.z, wi32.z) as f64,
+        )
+    } else {
+        (DVec3::ZERO, 1.0)
+    };
+    let base = (dielectric * (1.0 - metallic) + metal * metallic) * scaling + sheen;
     // KHR_materials_clearcoat: fresnel_coat(ior 1.5, weight clearcoat) at n.v over the coat's
     // own GGX lobe.
     let coat_a2 = (p.clearcoat_roughness.clamp(0.0, 1.0) as f64).powi(4);
@@ -184,6 +202,19 @@ fn sampled_albedo_matches_the_spec_by_quadrature() {
             clearcoat_roughness: 0.4,
             base_color: Vec3::ONE,
             roughness: 0.35,
+            ..dielectric
+        },
+        SurfaceParams {
+            sheen_color: Vec3::new(0.9, 0.4, 0.6),
+            sheen_roughness: 0.5,
+            ..dielectric
+        },
+        SurfaceParams {
+            sheen_color: Vec3::splat(0.7),
+            sheen_roughness: 0.3,
+            clearcoat: 0.5,
+            clearcoat_roughness: 0.4,
+            metallic: 0.5,
             ..dielectric
         },
     ];

@@ -46,8 +46,11 @@ pub(super) fn random_params(rng: &mut Pcg32) -> SurfaceParams {
     // Half the materials have no coat at all.
     let clearcoat = pick(&[0.0, 1.0]) * f32::from(u8::from(pick(&[0.0, 1.0]) >= 0.5));
     let clearcoat_roughness = pick(&[0.0, 1.0, MIRROR_ALPHA.sqrt() * 1.001, 0.05]);
-    // Half the materials transmit nothing.
+    // Half the materials transmit nothing; half have no sheen.
     let transmission = pick(&[0.0, 1.0]) * f32::from(u8::from(pick(&[0.0, 1.0]) >= 0.5));
+    let sheen = f32::from(u8::from(pick(&[0.0, 1.0]) >= 0.5));
+    let sheen_color = Vec3::new(pick(&[0.0, 1.0]), pick(&[1.0]), pick(&[0.0, 1.0])) * sheen;
+    let sheen_roughness = pick(&[0.0, 1.0, 0.3]);
     SurfaceParams {
         base_color,
         metallic,
@@ -58,6 +61,8 @@ pub(super) fn random_params(rng: &mut Pcg32) -> SurfaceParams {
         clearcoat,
         clearcoat_roughness,
         transmission,
+        sheen_color,
+        sheen_roughness,
         absorption,
     }
 }
@@ -247,6 +252,8 @@ fn specular_lobe_never_reflects_more_than_it_receives() {
     for case in 0..24 {
         let mut p = random_params(&mut rng);
         p.clearcoat = 0.0;
+        // A smooth sheen's lobe reflects more than 1 at grazing views (crate::sheen).
+        p.sheen_color = Vec3::ZERO;
         if case % 2 == 0 {
             p.metallic = 1.0;
         } else {
@@ -274,6 +281,8 @@ fn metals_and_lambertian_bases_never_reflect_more_than_they_receive() {
     let mut rng = Pcg32::new(5, 55);
     for case in 0..40 {
         let mut p = random_params(&mut rng);
+        // A smooth sheen's lobe reflects more than 1 at grazing views (crate::sheen).
+        p.sheen_color = Vec3::ZERO;
         if case % 2 == 0 {
             p.metallic = 1.0;
         } else {
@@ -331,7 +340,8 @@ fn sample_agrees_with_eval_and_pdf() {
             assert!(m.mirror && s.wi == -wo, "{p:?} {wo} {s:?}");
             let probabilities = m.lobe_probabilities(wo.z);
             assert_eq!(s.pdf, probabilities.transmission);
-            let expected = m.fresnel(wo.z).transmission * m.base_weight(wo.z) * m.scale / s.pdf;
+            let expected = m.fresnel(wo.z).transmission
+                * (m.base_weight(wo.z) * m.sheen_scaling(wo.z, wo.z) * m.scale / s.pdf);
             assert!(
                 (s.weight - expected).abs().max_element() < 1e-5 * expected.max_element().max(1.0)
             );
@@ -346,7 +356,8 @@ fn sample_agrees_with_eval_and_pdf() {
             let probabilities = m.lobe_probabilities(wo.z);
             let (mut expected, mut sp) = (Vec3::ZERO, 0.0);
             if m.mirror {
-                expected += m.fresnel(wo.z).specular * m.base_weight(wo.z);
+                expected +=
+                    m.fresnel(wo.z).specular * (m.base_weight(wo.z) * m.sheen_scaling(wo.z, wo.z));
                 sp += probabilities.specular;
             }
             if m.coat_mirror {
@@ -470,6 +481,8 @@ fn parameters_are_clamped() {
         clearcoat: 3.0,
         clearcoat_roughness: -1.0,
         transmission: 2.0,
+        sheen_color: Vec3::new(2.0, -1.0, 0.5),
+        sheen_roughness: 3.0,
         absorption: -2.0,
     };
     let tame = SurfaceParams {
@@ -482,6 +495,8 @@ fn parameters_are_clamped() {
         clearcoat: 1.0,
         clearcoat_roughness: 0.0,
         transmission: 1.0,
+        sheen_color: Vec3::new(1.0, 0.0, 0.5),
+        sheen_roughness: 1.0,
         absorption: 0.0,
     };
     assert_eq!(eval(&wild, wo, wi), eval(&tame, wo, wi));

@@ -30,7 +30,8 @@ impl Material {
         let up = mirrored(wi);
         let h = half_vector(wo, up);
         let lobe = ggx::ndf(h, self.alpha) * ggx::visibility(wo, up, self.alpha);
-        self.fresnel(h.dot(up)).transmission * (lobe * self.base_weight(wo.z) * self.scale)
+        let layers = self.base_weight(wo.z) * self.sheen_scaling(wo.z, up.z);
+        self.fresnel(h.dot(up)).transmission * (lobe * layers * self.scale)
     }
 
     /// The pdf with which the transmission lobe draws wi below the surface (selection
@@ -52,7 +53,8 @@ impl Material {
         p: LobeProbabilities,
     ) -> Option<BrdfSample> {
         if self.mirror {
-            let weight = self.fresnel(wo.z).transmission * self.base_weight(wo.z) * self.scale;
+            let layers = self.base_weight(wo.z) * self.sheen_scaling(wo.z, wo.z);
+            let weight = self.fresnel(wo.z).transmission * layers * self.scale;
             return Some(BrdfSample {
                 wi: -wo,
                 weight: weight / p.transmission,
