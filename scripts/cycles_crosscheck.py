@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Cross-check of chiaro's CPU reference path tracer against Blender Cycles on glTF scenes.
 
-For issue 34 (materials as glTF defines them). For each glTF scene:
+Checks that chiaro shades glTF materials as glTF defines them. For each glTF scene:
 
 1. Cycles: the scene imported with Blender's own glTF importer (default options, lighting mode
    "Standard"), rendered twice with two seeds at --spp samples each, WxH, into linear float EXRs.
@@ -434,7 +434,8 @@ def blender_import(scene_path, args, doc=None):
                     n_principled += 1
         # glTF doubleSided false: the importer sets use_backface_culling (viewport only). chiaro's
         # reference shades a back face of a single-sided material as a black absorber that ends
-        # the path; here the same through a Mix Shader on Backfacing with an empty (black) input.
+        # the path; here the same through a Mix Shader on Backfacing with an empty (black) input
+        # (for a blended material, black with probability alpha and transparent otherwise).
         if args.single_sided and mat.use_backface_culling:
             tree = mat.node_tree
             outs = [n for n in tree.nodes if n.type == "OUTPUT_MATERIAL"]
@@ -448,6 +449,20 @@ def blender_import(scene_path, args, doc=None):
                 tree.links.new(geo.outputs["Backfacing"], mix.inputs[0])
                 tree.links.new(src, mix.inputs[1])
                 tree.links.new(mix.outputs[0], surf)
+                # A blended material's back face keeps its coverage: chiaro stops a ray there
+                # with probability alpha (and absorbs it), and lets it through otherwise.
+                principled = [n for n in tree.nodes if n.type == "BSDF_PRINCIPLED"]
+                if principled:
+                    alpha = principled[0].inputs["Alpha"]
+                    if alpha.is_linked or alpha.default_value < 1.0:
+                        clear = tree.nodes.new("ShaderNodeBsdfTransparent")
+                        cover = tree.nodes.new("ShaderNodeMixShader")
+                        if alpha.is_linked:
+                            tree.links.new(alpha.links[0].from_socket, cover.inputs[0])
+                        else:
+                            cover.inputs[0].default_value = alpha.default_value
+                        tree.links.new(clear.outputs[0], cover.inputs[1])
+                        tree.links.new(cover.outputs[0], mix.inputs[2])
                 n_single += 1
     notes.append(f"{n_principled} Principled BSDF -> GGX")
     if doc is not None:
