@@ -68,6 +68,37 @@ fn orient_normals(
     if dot(o.shading, -incoming) <= 0.0 {
         o.shading = o.geometric;
     }
+    o.shading = valid_reflection_normal(o.geometric, normalize(-incoming), o.shading);
     o.shades = front_facing || double_sided;
     return o;
+}
+
+// chiaro_shading::shading_normal::valid_reflection_normal: `shading` turned towards `geometric`
+// in the plane they span, just far enough that the mirror reflection of `view` leaves the
+// surface at a cosine of at least min(0.9 geometric.view, MIN_REFLECTION_COSINE) (as Blender
+// Cycles' ensure_valid_specular_reflection does); `shading` itself when it already does.
+fn valid_reflection_normal(geometric: vec3<f32>, view: vec3<f32>, shading: vec3<f32>) -> vec3<f32> {
+    let v_z = dot(view, geometric);
+    let threshold = min(0.9 * v_z, MIN_REFLECTION_COSINE);
+    let reflected_z = 2.0 * dot(shading, view) * dot(shading, geometric) - v_z;
+    if reflected_z >= threshold {
+        return shading;
+    }
+    let tangential = shading - geometric * dot(shading, geometric);
+    let length = length(tangential);
+    if !(length > 0.0) {
+        return geometric;
+    }
+    let x = tangential / length;
+    let v_x = dot(view, x);
+    let amplitude = sqrt(v_z * v_z + v_x * v_x);
+    if !(amplitude > 0.0) {
+        return geometric;
+    }
+    let b = atan2(v_x, v_z);
+    let angle = 2.0 * atan2(dot(shading, x), dot(shading, geometric));
+    let reach = acos(clamp(threshold / amplitude, -1.0, 1.0));
+    let side = select(-1.0, 1.0, angle >= b);
+    let half = 0.5 * (b + side * reach);
+    return safe_normalize(geometric * cos(half) + x * sin(half), geometric);
 }

@@ -150,6 +150,10 @@ pub fn shared_constants() -> Vec<SharedConstant> {
         F32("MIRROR_ALPHA", chiaro_shading::brdf::MIRROR_ALPHA),
         F32("COAT_F0", chiaro_shading::brdf::COAT_F0),
         F32(
+            "MIN_REFLECTION_COSINE",
+            chiaro_shading::shading_normal::MIN_REFLECTION_COSINE,
+        ),
+        F32(
             "MIN_LOBE_PROBABILITY",
             chiaro_shading::brdf::MIN_LOBE_PROBABILITY,
         ),

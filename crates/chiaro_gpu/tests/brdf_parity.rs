@@ -55,7 +55,7 @@ const SHEEN_FLOOR: f32 = 1e-3;
 /// The error of a colour for this input's material: [`relative_error3`], or for a sheen
 /// material each channel's difference over max(|cpu|, [`SHEEN_FLOOR`]).
 fn error3(x: &BrdfInput, gpu: [f32; 3], cpu: Vec3) -> f32 {
-    if rel_eval(x) == REL_EVAL {
+    if rel_eval(x) != REL_EVAL_SHEEN {
         return relative_error3(gpu, cpu);
     }
     (0..3)
@@ -69,10 +69,19 @@ fn error3(x: &BrdfInput, gpu: [f32; 3], cpu: Vec3) -> f32 {
         .fold(0.0, f32::max)
 }
 
-/// The relative bound of eval, pdf and the weights for this input's material.
+/// The same bound for the transmission lobe seen or leaving within 1e-3 of the horizon: its
+/// mirrored direction's cosines there are differences of nearly equal numbers, which GL's fused
+/// multiply-adds round differently (measured worst 4.4e-4 on llvmpipe's GL, at a view 1e-4 above
+/// the horizon).
+const REL_EVAL_GRAZING_TRANSMISSION: f32 = 1e-3;
+
+/// The relative bound of eval, pdf and the weights for this input's material and directions.
 fn rel_eval(x: &BrdfInput) -> f32 {
+    let grazing = x.wo[2].abs() < 1e-3 || x.wi[2].abs() < 1e-3;
     if x.sheen_color.iter().any(|c| *c > 0.0) {
         REL_EVAL_SHEEN
+    } else if x.transmission > 0.0 && grazing {
+        REL_EVAL_GRAZING_TRANSMISSION
     } else {
         REL_EVAL
     }
@@ -315,10 +324,11 @@ fn params(x: &BrdfInput) -> SurfaceParams {
     }
 }
 
-/// Where one side is exactly zero the other must be below this. GPUs may flush subnormals, and
-/// a Fresnel term (1 - cos)^5 whose cosine is one rounding step from 1 lands around 1e-35 on
-/// one side and at exactly 0 on the other.
-const NEGLIGIBLE: f32 = 1e-30;
+/// Where one side is exactly zero (or negligible) the other must be below this. GPUs may flush
+/// subnormals, and a Fresnel term (1 - cos)^5 whose cosine is one rounding step from 1 lands
+/// around 1e-35 on one side and at exactly 0 on the other; times a sharp lobe's D, GL's fused
+/// multiply-adds gave 1.5e-30 against 4.6e-32.
+const NEGLIGIBLE: f32 = 1e-28;
 
 /// The zero / non-zero pattern: where either side is exactly 0, the other is negligible.
 fn same_zero_pattern(gpu: f32, cpu: f32) -> bool {
@@ -338,8 +348,13 @@ fn relative_error(gpu: f32, cpu: f32) -> f32 {
             f32::INFINITY
         };
     }
-    ((gpu - cpu) / cpu).abs()
+    ((gpu - cpu) / cpu.abs().max(ABSOLUTE_FLOOR)).abs()
 }
+
+/// Values below this are compared in absolute terms (the error over this floor): a Fresnel term
+/// (1 - cos)^5 of F0 0 at a cosine near 1 makes values of 1e-12 to 1e-20, whose last digits
+/// GL's fused multiply-adds move by 1e-4 of themselves, and which weigh nothing in an image.
+const ABSOLUTE_FLOOR: f32 = 1e-6;
 
 /// Returns an error with the message unless the condition holds.
 macro_rules! ensure {
@@ -453,7 +468,11 @@ fn check(x: &BrdfInput, g: &BrdfOutput, worst: &mut Worst) -> Result<(), String>
             sheen_bound + l.specular + l.transmission,
             1.0,
         ];
-        let tolerance = if rel_eval(x) > REL_EVAL { 1e-4 } else { 1e-6 };
+        let tolerance = if rel_eval(x) == REL_EVAL_SHEEN {
+            1e-4
+        } else {
+            1e-6
+        };
         let lobe = bounds.iter().any(|b| (x.u_lobe - b).abs() < tolerance);
         // A None from a direction below the horizon: the GPU's direction is near it too.
         let none_at_horizon = s.is_none() && valid && g.wi[2].abs() < HORIZON_TOL;

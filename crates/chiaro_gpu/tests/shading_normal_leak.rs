@@ -47,6 +47,24 @@ fn square(half: f32, height: f32) -> MeshData {
 /// The floor (normal-mapped, tilted 60 degrees towards +x), the emitter 1 below it, and an
 /// orthographic camera looking straight down at the floor's middle.
 fn leak_scene() -> World {
+    let (mut b, _) = tilted_floor(Material::lambertian("floor", Vec3::splat(0.8)));
+    let emitter = b.add_material(Material {
+        specular: 0.0,
+        ..Material::emitter("emitter", Vec3::splat(EMITTED))
+    });
+    let emitter_mesh = b
+        .add_mesh("mesh", "emitter", square(4.0, -1.0))
+        .unwrap()
+        .unwrap();
+    b.add_instance("emitter", emitter_mesh, emitter, Transform::IDENTITY);
+    let mut world = World::new();
+    b.spawn(&mut world);
+    world
+}
+
+/// A builder holding a floor of `material` with the 60-degree normal map, seen straight down by
+/// an orthographic camera, and the floor's instance material.
+fn tilted_floor(material: Material) -> (SceneBuilder, chiaro_scene::MaterialId) {
     let mut b = SceneBuilder::new("shading normal leak");
     // Tangent-space normal (sin 60, 0, cos 60), encoded as (n + 1) / 2.
     let tilt = Vec3::new(60f32.to_radians().sin(), 0.0, 60f32.to_radians().cos());
@@ -58,7 +76,7 @@ fn leak_scene() -> World {
         rgba8: vec![texel.x as u8, texel.y as u8, texel.z as u8, 255],
         color_space: ColorSpace::Linear,
     });
-    let mut floor = Material::lambertian("floor", Vec3::splat(0.8));
+    let mut floor = material;
     floor.normal_texture = Some(TextureRef {
         texture: normal_map,
         uv_set: 0,
@@ -66,20 +84,11 @@ fn leak_scene() -> World {
         sampler: Default::default(),
     });
     let floor = b.add_material(floor);
-    let emitter = b.add_material(Material {
-        specular: 0.0,
-        ..Material::emitter("emitter", Vec3::splat(EMITTED))
-    });
     let floor_mesh = b
         .add_mesh("mesh", "floor", square(2.0, 0.0))
         .unwrap()
         .unwrap();
-    let emitter_mesh = b
-        .add_mesh("mesh", "emitter", square(4.0, -1.0))
-        .unwrap()
-        .unwrap();
     b.add_instance("floor", floor_mesh, floor, Transform::IDENTITY);
-    b.add_instance("emitter", emitter_mesh, emitter, Transform::IDENTITY);
     b.add_node(Node {
         name: Some("camera".into()),
         transform: Transform::looking_at(Vec3::new(0.0, 3.0, 0.0), Vec3::ZERO, Vec3::NEG_Z),
@@ -93,9 +102,7 @@ fn leak_scene() -> World {
         }),
         ..Node::default()
     });
-    let mut world = World::new();
-    b.spawn(&mut world);
-    world
+    (b, floor)
 }
 
 fn mean(image: &[Vec3]) -> f64 {
@@ -139,4 +146,40 @@ fn the_gpu_modes_do_not_leak_through_a_normal_mapped_floor() {
             frame.mode
         );
     }
+}
+
+/// The other side of the rule: a smooth white metal floor with the same 60-degree normal map,
+/// seen straight down under a white sky of radiance 1. The view's mirror reflection about the
+/// mapped normal would point 30 degrees below the surface and carry nothing, so the floor would
+/// be black; the shading normal is turned back just enough for the reflection to clear the
+/// surface (chiaro_shading::shading_normal), and the floor reflects the sky: mean 1 within 2%
+/// in the CPU reference and the GPU reference mode (it read 0 before the correction).
+#[test]
+fn a_mirror_with_a_steep_normal_map_still_reflects_the_sky() {
+    let mirror = Material {
+        metallic: 1.0,
+        ..Material::diffuse("mirror", Vec3::ONE, 0.0)
+    };
+    let (mut b, _) = tilted_floor(mirror);
+    b.set_environment(chiaro_scene::Environment::constant(Vec3::ONE));
+    let mut world = World::new();
+    b.spawn(&mut world);
+    let cpu = cpu_reference(&mut world, 16, 16, PathSettings::default());
+    eprintln!("CPU reference: mirror mean {:.4}", mean(&cpu.image));
+    assert!(
+        (mean(&cpu.image) - 1.0).abs() < 0.02,
+        "{}",
+        mean(&cpu.image)
+    );
+    let Some(gpu) = common::gpu() else { return };
+    let mut renderer = Renderer::new(gpu);
+    let frame = FrameSettings {
+        spp: 4,
+        ..mode(RenderMode::Reference)
+    };
+    let out = renderer
+        .render(&mut world, &settings(16, 4, 1, frame))
+        .unwrap();
+    eprintln!("GPU reference mode: mirror mean {:.4}", mean(&out.hdr));
+    assert!((mean(&out.hdr) - 1.0).abs() < 0.02, "{}", mean(&out.hdr));
 }

@@ -10,6 +10,7 @@ use chiaro_scene::{AlphaMode, Material, Mesh};
 use chiaro_shading::brdf::SurfaceParams;
 use chiaro_shading::coverage;
 use chiaro_shading::frame::Frame;
+use chiaro_shading::shading_normal::valid_reflection_normal;
 use glam::{Vec2, Vec3, Vec4};
 
 use crate::scene::RenderScene;
@@ -205,6 +206,7 @@ pub fn surface_at(scene: &RenderScene, ray: &Ray, hit: &Hit) -> SurfaceHit {
     if shading_normal.dot(-ray.direction) <= 0.0 {
         shading_normal = geometric_normal;
     }
+    let shading_normal = valid_reflection_normal(geometric_normal, -ray.direction, shading_normal);
     let shades = front_facing || material.shades_both_sides();
 
     let base = base_color_at(scene, material, mesh, hit.triangle, b, uvs);

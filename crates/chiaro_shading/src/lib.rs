@@ -10,8 +10,11 @@
 //! - [`sampling`]: warps from uniform numbers to directions and points; the power heuristic.
 //! - [`distribution`]: discrete 1D and 2D distributions (light selection, environment texels).
 //! - [`ggx`]: the GGX microfacet distribution, Smith masking-shadowing, visible-normal sampling.
-//! - [`brdf`]: the glTF metallic-roughness BRDF: `eval`, `pdf`, `sample`.
-//! - [`sheen`]: KHR_materials_sheen's sheen lobe and albedo scaling (a building block of the BRDF).
+//! - [`brdf`]: the glTF metallic-roughness BRDF with its extensions' layers: `eval`, `pdf`,
+//!   `sample`.
+//! - [`sheen`]: KHR_materials_sheen's sheen lobe and albedo scaling, layered by the BRDF.
+//! - [`shading_normal`]: shading normals turned back where the view's mirror reflection would
+//!   leave below the surface.
 //! - [`lights`]: point, spot, directional, triangle and environment lights: sampling and pdfs.
 //! - [`light_tree`]: a light tree choosing among many lights by their importance to a point.
 //! - [`tonemap`]: ACES (fitted), Khronos PBR Neutral, clamp.
@@ -63,6 +66,7 @@ pub mod light_tree;
 pub mod lights;
 pub mod rng;
 pub mod sampling;
+pub mod shading_normal;
 pub mod sheen;
 pub mod tonemap;
 
