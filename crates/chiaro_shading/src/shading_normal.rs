@@ -33,13 +33,13 @@ pub fn valid_reflection_normal(geometric: Vec3, view: Vec3, shading: Vec3) -> Ve
     }
     let tangential = shading - geometric * shading.dot(geometric);
     let length = tangential.length();
-    if !(length > 0.0) {
+    if length.is_nan() || length <= 0.0 {
         return geometric;
     }
     let x = tangential / length;
     let v_x = view.dot(x);
     let amplitude = (v_z * v_z + v_x * v_x).sqrt();
-    if !(amplitude > 0.0) {
+    if amplitude.is_nan() || amplitude <= 0.0 {
         return geometric;
     }
     let b = v_x.atan2(v_z);
