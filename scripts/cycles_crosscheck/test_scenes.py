@@ -1,0 +1,216 @@
+"""The hand-made glTF test scenes (plain JSON with an embedded buffer; no Blender needed):
+quads under the constant environment, a point light over a floor, vertex colours, alpha BLEND and
+the material extensions clearcoat, specular and transmission."""
+
+import base64
+import json
+import math
+import os
+
+import numpy as np
+
+
+class GltfBuilder:
+    def __init__(self):
+        self.doc = {
+            "asset": {"version": "2.0", "generator": "chiaro scripts/cycles_crosscheck.py"},
+            "scene": 0,
+            "scenes": [{"nodes": []}],
+            "nodes": [],
+            "meshes": [],
+            "materials": [],
+            "accessors": [],
+            "bufferViews": [],
+            "buffers": [],
+        }
+        self.blob = bytearray()
+
+    def _view(self, data, target):
+        while len(self.blob) % 4:
+            self.blob.append(0)
+        offset = len(self.blob)
+        self.blob += data
+        self.doc["bufferViews"].append(
+            {"buffer": 0, "byteOffset": offset, "byteLength": len(data), "target": target}
+        )
+        return len(self.doc["bufferViews"]) - 1
+
+    def accessor(self, array, kind, target=34962):
+        array = np.ascontiguousarray(array)
+        if array.dtype == np.uint32:
+            comp = 5125
+        else:
+            array = array.astype(np.float32)
+            comp = 5126
+        view = self._view(array.tobytes(), target)
+        acc = {"bufferView": view, "componentType": comp, "count": int(array.shape[0]),
+               "type": kind}
+        if kind == "VEC3" and comp == 5126:
+            acc["min"] = array.min(axis=0).tolist()
+            acc["max"] = array.max(axis=0).tolist()
+        self.doc["accessors"].append(acc)
+        return len(self.doc["accessors"]) - 1
+
+    def material(self, **m):
+        self.doc["materials"].append(m)
+        return len(self.doc["materials"]) - 1
+
+    def quad(self, size, material, colors=None, z=0.0):
+        """A size x size quad in the XY plane at height z, facing +Z (counter-clockwise)."""
+        h = 0.5 * size
+        pos = np.array([[-h, -h, z], [h, -h, z], [h, h, z], [-h, h, z]], np.float32)
+        nrm = np.tile(np.array([0, 0, 1], np.float32), (4, 1))
+        idx = np.array([0, 1, 2, 0, 2, 3], np.uint32)
+        attrs = {"POSITION": self.accessor(pos, "VEC3"), "NORMAL": self.accessor(nrm, "VEC3")}
+        if colors is not None:
+            attrs["COLOR_0"] = self.accessor(np.array(colors, np.float32), "VEC4")
+        prim = {"attributes": attrs, "indices": self.accessor(idx, "SCALAR", 34963),
+                "material": material}
+        self.doc["meshes"].append({"primitives": [prim]})
+        return len(self.doc["meshes"]) - 1
+
+    def node(self, root=True, **n):
+        self.doc["nodes"].append(n)
+        i = len(self.doc["nodes"]) - 1
+        if root:
+            self.doc["scenes"][0]["nodes"].append(i)
+        return i
+
+    def write(self, path, extras=None):
+        if extras:
+            self.doc["asset"]["extras"] = {"cycles_crosscheck": extras}
+        self.doc["buffers"] = [{
+            "byteLength": len(self.blob),
+            "uri": "data:application/octet-stream;base64," + base64.b64encode(bytes(self.blob)).decode(),
+        }]
+        for k in ["materials", "meshes"]:
+            if not self.doc[k]:
+                del self.doc[k]
+        with open(path, "w") as f:
+            json.dump(self.doc, f, indent=1)
+
+
+def rot_x(deg):
+    a = math.radians(deg) / 2
+    return [math.sin(a), 0.0, 0.0, math.cos(a)]
+
+
+def make_test_scenes(folder):
+    os.makedirs(folder, exist_ok=True)
+    paths = []
+
+    def pbr(base, metallic, roughness, **extra):
+        base = list(base) + [1.0] * (4 - len(base))
+        return dict(pbrMetallicRoughness={"baseColorFactor": base, "metallicFactor": metallic,
+                                          "roughnessFactor": roughness}, **extra)
+
+    # (a) quad facing the camera: base 0.8, roughness 0.5, dielectric.
+    b = GltfBuilder()
+    m = b.material(name="dielectric_0.8_r0.5", **pbr([0.8, 0.8, 0.8], 0.0, 0.5))
+    b.node(mesh=b.quad(2.0, m), name="quad")
+    p = os.path.join(folder, "a_quad_facing.gltf")
+    b.write(p, {"probe": "centre"})
+    paths.append(p)
+
+    # (b) the same quad seen at 75 degrees (its normal turned 75 degrees up from the view axis).
+    b = GltfBuilder()
+    m = b.material(name="dielectric_0.8_r0.5", **pbr([0.8, 0.8, 0.8], 0.0, 0.5))
+    b.node(mesh=b.quad(2.0, m), name="quad_75", rotation=rot_x(-75.0))
+    p = os.path.join(folder, "b_quad_75deg.gltf")
+    b.write(p, {"probe": "centre"})
+    paths.append(p)
+
+    # (c) white, metallic 0.4, roughness 0.4, facing the camera.
+    b = GltfBuilder()
+    m = b.material(name="white_m0.4_r0.4", **pbr([1.0, 1.0, 1.0], 0.4, 0.4))
+    b.node(mesh=b.quad(2.0, m), name="quad")
+    p = os.path.join(folder, "c_quad_metal04.gltf")
+    b.write(p, {"probe": "centre"})
+    paths.append(p)
+
+    # (d) a 100 cd point light 2 m above a diffuse-ish floor, black environment, glTF camera.
+    b = GltfBuilder()
+    m = b.material(name="floor_0.8_r1", **pbr([0.8, 0.8, 0.8], 0.0, 1.0))
+    b.node(mesh=b.quad(4.0, m), name="floor", rotation=rot_x(-90.0))  # facing +Y
+    b.doc["extensionsUsed"] = ["KHR_lights_punctual"]
+    b.doc["extensions"] = {"KHR_lights_punctual": {"lights": [
+        {"type": "point", "color": [1.0, 1.0, 1.0], "intensity": 100.0, "name": "point_100cd"}]}}
+    b.node(name="light", translation=[0.0, 2.0, 0.0],
+           extensions={"KHR_lights_punctual": {"light": 0}})
+    b.doc["cameras"] = [{"type": "perspective",
+                         "perspective": {"yfov": 0.8, "znear": 0.01, "aspectRatio": 1.0}}]
+    b.node(name="camera", camera=0, translation=[0.0, 3.0, 5.0],
+           rotation=rot_x(-math.degrees(math.atan2(3.0, 5.0))))
+    p = os.path.join(folder, "d_point_light_100cd.gltf")
+    b.write(p, {"env": "0,0,0", "probe": "centre"})
+    paths.append(p)
+
+    # (e) vertex colours (COLOR_0, VEC4 float): red, green, blue, white corners.
+    b = GltfBuilder()
+    m = b.material(name="white_vertex_colour", **pbr([1.0, 1.0, 1.0], 0.0, 0.5))
+    colors = [[1, 0, 0, 1], [0, 1, 0, 1], [0, 0, 1, 1], [1, 1, 1, 1]]
+    b.node(mesh=b.quad(2.0, m, colors=colors), name="quad")
+    p = os.path.join(folder, "e_vertex_colour.gltf")
+    b.write(p, {"probe": "centre"})
+    paths.append(p)
+
+    # (f) alpha BLEND 0.5 white quad 0.5 above a blue floor quad, both facing the camera.
+    b = GltfBuilder()
+    floor = b.material(name="blue_floor", **pbr([0.1, 0.3, 0.8], 0.0, 0.5))
+    glass = b.material(name="blend_0.5", alphaMode="BLEND",
+                       **pbr([0.9, 0.9, 0.9, 0.5], 0.0, 0.5))
+    b.node(mesh=b.quad(3.0, floor), name="floor")
+    b.node(mesh=b.quad(2.0, glass, z=0.5), name="blend_quad")
+    p = os.path.join(folder, "f_alpha_blend.gltf")
+    b.write(p, {"probe": "centre"})
+    paths.append(p)
+
+    # Material extensions. Each scene lists its extension in extensionsUsed.
+    def with_ext(builder, *names):
+        builder.doc["extensionsUsed"] = sorted(set(builder.doc.get("extensionsUsed", [])) | set(names))
+
+    # (g) KHR_materials_clearcoat (factor 1, roughness 0.3) over a red dielectric (roughness 0.6),
+    # facing the camera and at 60 degrees (its normal 60 degrees up from the view axis).
+    for name, tilt in [("g_clearcoat_facing", 0.0), ("g_clearcoat_60deg", -60.0)]:
+        b = GltfBuilder()
+        m = b.material(name="red_r0.6_clearcoat1_r0.3", **pbr(
+            [0.8, 0.1, 0.1], 0.0, 0.6,
+            extensions={"KHR_materials_clearcoat": {"clearcoatFactor": 1.0,
+                                                    "clearcoatRoughnessFactor": 0.3}}))
+        with_ext(b, "KHR_materials_clearcoat")
+        node = dict(mesh=b.quad(2.0, m), name="quad")
+        if tilt:
+            node["rotation"] = rot_x(tilt)
+        b.node(**node)
+        p = os.path.join(folder, name + ".gltf")
+        b.write(p, {"probe": "centre"})
+        paths.append(p)
+
+    # (h) KHR_materials_specular (factor 0.5, colour (1, 0.5, 0.25)) over a grey dielectric
+    # (base 0.5, roughness 0.5), facing the camera.
+    b = GltfBuilder()
+    m = b.material(name="grey_r0.5_specular0.5", **pbr(
+        [0.5, 0.5, 0.5], 0.0, 0.5,
+        extensions={"KHR_materials_specular": {"specularFactor": 0.5,
+                                               "specularColorFactor": [1.0, 0.5, 0.25]}}))
+    with_ext(b, "KHR_materials_specular")
+    b.node(mesh=b.quad(2.0, m), name="quad")
+    p = os.path.join(folder, "h_specular.gltf")
+    b.write(p, {"probe": "centre"})
+    paths.append(p)
+
+    # (i) KHR_materials_transmission: a thin pane (one double-sided quad, white, roughness 0.2,
+    # transmission 1) 0.5 m in front of an orange diffuse backdrop (3 x 3 m, roughness 1).
+    # chiaro renders it thin-walled (no KHR_materials_volume); Cycles refracts at the quad.
+    b = GltfBuilder()
+    back = b.material(name="orange_backdrop_r1", **pbr([0.8, 0.4, 0.1], 0.0, 1.0))
+    pane = b.material(name="pane_transmission1_r0.2", doubleSided=True, **pbr(
+        [1.0, 1.0, 1.0], 0.0, 0.2,
+        extensions={"KHR_materials_transmission": {"transmissionFactor": 1.0}}))
+    with_ext(b, "KHR_materials_transmission")
+    b.node(mesh=b.quad(3.0, back), name="backdrop")
+    b.node(mesh=b.quad(2.0, pane, z=0.5), name="pane")
+    p = os.path.join(folder, "i_transmission_pane.gltf")
+    b.write(p, {"probe": "centre"})
+    paths.append(p)
+    return paths
