@@ -161,7 +161,7 @@ fn brdf_base_weight(m: BrdfMaterial, wo_z: f32) -> f32 {
 
 // KHR_materials_sheen's albedo scaling of the base beneath the sheen; exactly 1 without one.
 fn brdf_sheen_scaling(m: BrdfMaterial, wo_z: f32, wi_z: f32) -> f32 {
-    if !FEATURE_SHEEN || max(max(m.sheen_color.x, m.sheen_color.y), m.sheen_color.z) <= 0.0 {
+    if !FEATURE_SHEEN {
         return 1.0;
     }
     return sheen_albedo_scaling(m.sheen_color, m.sheen_roughness, wo_z, wi_z);

@@ -21,14 +21,8 @@ impl MaterialImporter<'_> {
             out.specular = f;
         }
         if let Some(value) = ext.get("specularColorFactor") {
-            let channels: Option<Vec<f64>> = value
-                .as_array()
-                .filter(|a| a.len() == 3)
-                .and_then(|a| a.iter().map(|c| c.as_f64()).collect());
-            match channels {
-                Some(c) if c.iter().all(|c| c.is_finite() && *c >= 0.0) => {
-                    out.specular_color = Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32);
-                }
+            match three_numbers(value) {
+                Some(color) if color.min_element() >= 0.0 => out.specular_color = color,
                 _ => self.repair(
                     element.into(),
                     format!("specular colour factor {value} is not three numbers >= 0: 1 used"),
@@ -114,13 +108,8 @@ impl MaterialImporter<'_> {
             return;
         };
         if let Some(value) = ext.get("sheenColorFactor") {
-            let channels: Option<Vec<f64>> = value
-                .as_array()
-                .filter(|a| a.len() == 3)
-                .and_then(|a| a.iter().map(|c| c.as_f64()).collect());
-            match channels {
-                Some(c) if c.iter().all(|c| c.is_finite()) => {
-                    let color = Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32);
+            match three_numbers(value) {
+                Some(color) => {
                     out.sheen_color = color.clamp(Vec3::ZERO, Vec3::ONE);
                     if out.sheen_color != color {
                         self.repair(
@@ -177,4 +166,16 @@ impl MaterialImporter<'_> {
             }
         }
     }
+}
+
+/// A JSON array of exactly three finite numbers, as a vector.
+fn three_numbers(value: &Value) -> Option<Vec3> {
+    let channels: Vec<f32> = value
+        .as_array()
+        .filter(|a| a.len() == 3)?
+        .iter()
+        .map(|c| c.as_f64().map(|c| c as f32))
+        .collect::<Option<_>>()?;
+    let color = Vec3::from_slice(&channels);
+    color.is_finite().then_some(color)
 }
