@@ -63,7 +63,7 @@ struct CompositeParams {
 
 // The surface a pixel sees: its instance + 1, or 0 where it sees none.
 fn resolve_surface(pixel: vec2<i32>) -> u32 {
-    return textureLoad(gbuffer_emission, pixel, 0).w & ~GBUFFER_SHADES;
+    return textureLoad(gbuffer_emission, pixel, 0).w & ~GBUFFER_FLAGS;
 }
 
 // This frame's radiance at a pixel.

@@ -72,7 +72,8 @@ fn brdf_light(s: Shading, numbers: vec3<f32>, first: ptr<function, vec4<u32>>) -
     }
     let hit = trace_closest(leaving_ray(s, wi), f32_infinity());
     *first = first_bounce_encode(hit);
-    return bs.weight * emission_reached(s, wi, hit, bs.pdf, !bs.delta);
+    return bs.weight * medium_transmittance(s.position, wi, hit)
+        * emission_reached(s, wi, hit, bs.pdf, !bs.delta);
 }
 
 @compute @workgroup_size(8, 8)

@@ -189,6 +189,7 @@ fn fs_main(in: VertexOut) -> GbufferOut {
     surface.metallic = clamp(material.metallic * metallic_roughness.z, 0.0, 1.0);
     surface.roughness = clamp(material.roughness * metallic_roughness.y, 0.0, 1.0);
     surface.shades = shades;
+    surface.back_face = dot(incoming, geometric_front) >= 0.0;
     surface.emission = emission;
     surface.instance = in.instance;
     let packed = gbuffer_pack(surface);

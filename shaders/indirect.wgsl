@@ -199,6 +199,10 @@ fn path_step(path: ptr<function, Path>, rng: ptr<function, Pcg32>, first_path: b
     } else {
         hit = trace_closest(ray, f32_infinity());
     }
+    if FEATURE_VOLUMES {
+        throughput *= medium_transmittance(s.position, step.wi, hit);
+        (*path).throughput = throughput;
+    }
     if depth > 0u || naive {
         (*path).total += throughput * emission_reached(s, step.wi, hit, step.pdf,
             !naive && !step.delta);

@@ -385,7 +385,14 @@ fn material_extension_factors_are_read_and_bad_ones_repaired() {
         json!({"sheenColorFactor": [0.5, 1.5, 0.25], "sheenRoughnessFactor": 0.4});
     json["materials"][0]["extensions"]["KHR_materials_transmission"] =
         json!({"transmissionFactor": 0.6});
-    json["materials"][1]["extensions"]["KHR_materials_volume"] = json!({"thicknessFactor": 0.1});
+    json["materials"][0]["extensions"]["KHR_materials_volume"] = json!({
+        "thicknessFactor": 0.5, "attenuationColor": [0.5, 0.25, 1.0], "attenuationDistance": 2.0
+    });
+    json["materials"][1]["extensions"]["KHR_materials_transmission"] =
+        json!({"transmissionFactor": 0.5});
+    json["materials"][1]["extensions"]["KHR_materials_volume"] = json!({
+        "thicknessFactor": 0.1, "attenuationColor": [0.0, 0.5, 2.0], "attenuationDistance": -1
+    });
     json["materials"][1]["extensions"]["KHR_materials_clearcoat"] =
         json!({"clearcoatFactor": 4.0, "clearcoatRoughnessFactor": "rough"});
     json["extensionsUsed"] = json!([
@@ -428,7 +435,15 @@ fn material_extension_factors_are_read_and_bad_ones_repaired() {
         (Vec3::new(0.5, 1.0, 0.25), 0.4, 0.6)
     );
     assert!(textured.shades_both_sides());
+    let volume = textured.volume.expect("a volume");
+    assert_eq!(
+        (volume.attenuation_color, volume.attenuation_distance),
+        (Vec3::new(0.5, 0.25, 1.0), 2.0)
+    );
+    let sigma = volume.attenuation_coefficient();
+    assert!((sigma - Vec3::new(0.5f32.ln(), 0.25f32.ln(), 0.0) / -2.0).abs().max_element() < 1e-6);
     let glowing = named("glowing");
+    assert_eq!(glowing.volume, Some(chiaro_scene::Volume::default()));
     assert_eq!(
         (
             glowing.specular,
@@ -443,7 +458,8 @@ fn material_extension_factors_are_read_and_bad_ones_repaired() {
         "clear coat factor 4 clamped to [0, 1]",
         "clear coat roughness \"rough\" is not a number: the default is used",
         "sheen colour [0.5, 1.5, 0.25] clamped to [0, 1]",
-        "KHR_materials_volume is not read: the surface is rendered thin-walled",
+        "attenuation colour [0.0, 0.5, 2.0] is not three numbers in (0, 1]: white used",
+        "attenuation distance -1 is not a number > 0: no attenuation",
     ] {
         assert!(
             actions.contains(&expected),

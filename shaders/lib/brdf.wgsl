@@ -26,6 +26,7 @@
 #import lib/ggx.wgsl
 #import lib/features.wgsl
 #import lib/sheen.wgsl
+#import lib/refraction.wgsl
 
 // A surface's material at a shading point, after texture lookup (chiaro_shading's
 // SurfaceParams). Every field is clamped on use.
@@ -42,6 +43,8 @@ struct SurfaceParams {
     sheen_color: vec3<f32>,
     sheen_roughness: f32,
     absorption: f32,
+    // KHR_materials_volume's relative IOR across the surface (0: thin-walled).
+    eta: f32,
 }
 
 // A direction drawn by brdf_sample. `valid` is false where the Rust returns None; the other
@@ -69,6 +72,9 @@ struct BrdfMaterial {
     transmission: f32,
     sheen_color: vec3<f32>,
     sheen_roughness: f32,
+    eta: f32,
+    // The transmission lobe is a delta: a smooth surface, or a volume of matching IORs.
+    transmission_delta: bool,
 }
 
 // ((ior - 1) / (ior + 1))^2; negative IORs count as 0.
@@ -110,6 +116,11 @@ fn brdf_material(p: SurfaceParams) -> BrdfMaterial {
     if FEATURE_TRANSMISSION {
         m.transmission = clamp(p.transmission, 0.0, 1.0);
     }
+    m.eta = 0.0;
+    if FEATURE_VOLUMES && f32_is_finite(p.eta) && p.eta > 0.0 {
+        m.eta = p.eta;
+    }
+    m.transmission_delta = m.mirror || (m.eta > 0.0 && abs(m.eta - 1.0) < ETA_DELTA_BAND);
     m.sheen_color = vec3<f32>(0.0);
     m.sheen_roughness = 0.0;
     if FEATURE_SHEEN {
@@ -128,7 +139,16 @@ struct FresnelWeights {
 }
 
 fn brdf_fresnel(m: BrdfMaterial, cos_theta: f32) -> FresnelWeights {
-    let dielectric = fresnel_schlick(m.f0_dielectric, cos_theta);
+    return brdf_fresnel_outside(m, cos_theta, brdf_outside_cosine(m, cos_theta));
+}
+
+// brdf_fresnel with the dielectric's Schlick term at `outside`, the cosine on the optically
+// thinner side (negative: total internal reflection, F_d = 1).
+fn brdf_fresnel_outside(m: BrdfMaterial, cos_theta: f32, outside: f32) -> FresnelWeights {
+    var dielectric = vec3<f32>(1.0);
+    if outside >= 0.0 {
+        dielectric = fresnel_schlick(m.f0_dielectric, outside);
+    }
     let metal = fresnel_schlick(m.base, cos_theta);
     let dielectric_weight = 1.0 - m.metallic;
     let dielectric_max = max(max(dielectric.x, dielectric.y), dielectric.z);
@@ -201,7 +221,12 @@ struct BrdfLobeProbabilities {
 fn brdf_lobe_probabilities(m: BrdfMaterial, wo_z: f32) -> BrdfLobeProbabilities {
     let weights = brdf_fresnel(m, wo_z);
     let specular = luminance(weights.specular);
-    let diffuse = luminance(weights.diffuse + weights.transmission);
+    var diffuse = luminance(weights.diffuse + weights.transmission);
+    if diffuse <= 0.0 && brdf_refracts_past_the_critical_angle(m) {
+        // Inside a volume past the critical angle at the normal, tilted microfacets still
+        // refract: the transmission keeps the smallest share.
+        diffuse = F32_MIN_POSITIVE;
+    }
     let coat = brdf_coat_weight(m, wo_z);
     let sheen = brdf_sheen_estimate(m, wo_z);
     let base = brdf_sheen_scaling(m, wo_z, wo_z) * (specular + diffuse);
@@ -348,8 +373,11 @@ fn brdf_mirrored(w: vec3<f32>) -> vec3<f32> {
 }
 
 fn brdf_transmission_eval(m: BrdfMaterial, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
-    if !FEATURE_TRANSMISSION || m.transmission <= 0.0 || m.mirror {
+    if !FEATURE_TRANSMISSION || m.transmission <= 0.0 || m.transmission_delta {
         return vec3<f32>(0.0);
+    }
+    if FEATURE_VOLUMES && m.eta > 0.0 {
+        return brdf_refraction_eval(m, wo, wi);
     }
     let up = brdf_mirrored(wi);
     let h = brdf_half_vector(wo, up);
@@ -359,8 +387,11 @@ fn brdf_transmission_eval(m: BrdfMaterial, wo: vec3<f32>, wi: vec3<f32>) -> vec3
 }
 
 fn brdf_transmission_pdf(m: BrdfMaterial, wo: vec3<f32>, wi: vec3<f32>, probabilities: BrdfLobeProbabilities) -> f32 {
-    if !FEATURE_TRANSMISSION || probabilities.transmission <= 0.0 || m.mirror {
+    if !FEATURE_TRANSMISSION || probabilities.transmission <= 0.0 || m.transmission_delta {
         return 0.0;
+    }
+    if FEATURE_VOLUMES && m.eta > 0.0 {
+        return brdf_refraction_pdf(m, wo, wi, probabilities);
     }
     let up = brdf_mirrored(wi);
     return probabilities.transmission * reflected_vndf_pdf(wo, brdf_half_vector(wo, up), m.alpha);
@@ -416,6 +447,10 @@ fn brdf_sample(p: SurfaceParams, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>) -> Br
     let specular_lobe = !coat_lobe && !sheen_lobe && u_base < p_specular;
     let transmission_lobe = FEATURE_TRANSMISSION && !coat_lobe && !sheen_lobe && !specular_lobe
         && u_base - p_specular < p_transmission;
+    let refraction = FEATURE_VOLUMES && transmission_lobe && m.eta > 0.0;
+    if refraction && m.transmission_delta {
+        return brdf_refraction_sample(m, wo, vec3<f32>(0.0, 0.0, 1.0), probabilities);
+    }
     if transmission_lobe && m.mirror {
         // A smooth thin-walled surface transmits straight through: a delta along -wo.
         s.wi = -wo;
@@ -433,6 +468,9 @@ fn brdf_sample(p: SurfaceParams, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>) -> Br
         }
         // One VNDF call for the glossy lobes (lavapipe runs every arm of a branch).
         let h = sample_vndf(wo, select(m.alpha, m.coat_alpha, coat_lobe), u);
+        if refraction {
+            return brdf_refraction_sample(m, wo, h, probabilities);
+        }
         wi = 2.0 * dot(wo, h) * h - wo;
     } else if sheen_lobe {
         let drawn = sheen_sample(m.sheen_roughness, wo, u);

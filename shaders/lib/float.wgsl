@@ -6,6 +6,8 @@
 
 const F32_EXPONENT_MASK: u32 = 0x7f800000u;
 const F32_ABS_MASK: u32 = 0x7fffffffu;
+// The smallest positive normal value (Rust's f32::MIN_POSITIVE).
+const F32_MIN_POSITIVE: f32 = 1.17549435e-38;
 
 // +infinity, built at run time (a constant expression may not overflow).
 fn f32_infinity() -> f32 {

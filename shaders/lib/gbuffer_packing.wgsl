@@ -1,7 +1,8 @@
 // The G-buffer's texel formats: how a surface is packed into the position (rgba32uint: world
 // position and roughness as f32 bits; integer targets render on every backend, 32-bit float
 // ones not on GL), surface (rgba32uint: normals, base colour, metallic) and emission
-// (rgba32uint: emission as f32 bits, instance + 1 with the shading flag in bit 31) targets
+// (rgba32uint: emission as f32 bits, instance + 1 with the shading flag in bit 31 and the
+// back-face flag in bit 30) targets
 // and read back. Base colour and metallic are 16-bit unorm; normals are octahedral in
 // 2 x 16-bit snorm (Cigolle et al., "A Survey of Efficient Representations for Independent
 // Unit Vectors", JCGT 3(2), 2014).
@@ -14,6 +15,8 @@ struct GbufferSurface {
     metallic: f32,
     roughness: f32,
     shades: bool,
+    // The camera sees the triangle's back face (inside a volume's mesh, the medium).
+    back_face: bool,
     emission: vec3<f32>,
     instance: u32,
 }
@@ -57,12 +60,17 @@ fn gbuffer_pack(s: GbufferSurface) -> GbufferTexels {
         pack2x16unorm(vec2<f32>(s.base_color.z, s.metallic)),
     );
     t.emission = vec4<u32>(bitcast<vec3<u32>>(s.emission),
-        (s.instance + 1u) | select(0u, GBUFFER_SHADES, s.shades));
+        (s.instance + 1u) | select(0u, GBUFFER_SHADES, s.shades)
+        | select(0u, GBUFFER_BACK_FACE, s.back_face));
     return t;
 }
 
 // Bit of the emission target's w set when the surface shades (not a single-sided back face).
 const GBUFFER_SHADES: u32 = 0x80000000u;
+// Bit of the emission target's w set when the camera sees the triangle's back face.
+const GBUFFER_BACK_FACE: u32 = 0x40000000u;
+// Both flag bits: the rest of w is the instance + 1.
+const GBUFFER_FLAGS: u32 = 0xc0000000u;
 
 // Whether anything was drawn at a texel.
 fn gbuffer_covered(t: GbufferTexels) -> bool {
@@ -82,6 +90,7 @@ fn gbuffer_unpack(t: GbufferTexels) -> GbufferSurface {
     s.metallic = bz.y;
     s.emission = bitcast<vec3<f32>>(t.emission.xyz);
     s.shades = (t.emission.w & GBUFFER_SHADES) != 0u;
-    s.instance = (t.emission.w & ~GBUFFER_SHADES) - 1u;
+    s.back_face = (t.emission.w & GBUFFER_BACK_FACE) != 0u;
+    s.instance = (t.emission.w & ~GBUFFER_FLAGS) - 1u;
     return s;
 }

@@ -54,8 +54,10 @@ struct GpuMaterial {
     sheen_color: vec3<f32>,
     sheen_roughness: f32,
     transmission: f32,
+    ior: f32,
     pad0: u32,
     pad1: u32,
+    attenuation: vec3<f32>,
     pad2: u32,
     base_color_texture: GpuTextureSlot,
     metallic_roughness_texture: GpuTextureSlot,
@@ -169,7 +171,7 @@ fn scene_index(i: u32) -> u32 {
 // Material i (19 texels: 7 of factors, then 3 for each texture slot). The shaders read a few
 // fields of it; the fetches of the others are dead code.
 fn scene_material(i: u32) -> GpuMaterial {
-    let first = 19u * i;
+    let first = 20u * i;
     let base_color = bitcast<vec4<f32>>(texel_array_load(scene_material_texels, first));
     let emission = texel_array_load(scene_material_texels, first + 1u);
     let factors = bitcast<vec4<f32>>(texel_array_load(scene_material_texels, first + 2u));
@@ -177,12 +179,14 @@ fn scene_material(i: u32) -> GpuMaterial {
     let specular_color = texel_array_load(scene_material_texels, first + 4u);
     let sheen = bitcast<vec4<f32>>(texel_array_load(scene_material_texels, first + 5u));
     let layers = texel_array_load(scene_material_texels, first + 6u);
+    let volume = texel_array_load(scene_material_texels, first + 7u);
     return GpuMaterial(base_color, bitcast<vec3<f32>>(emission.xyz), bitcast<f32>(emission.w),
         factors.x, factors.y, factors.z, factors.w, bitcast<f32>(tail.x), tail.y,
         bitcast<f32>(tail.z), bitcast<f32>(tail.w), bitcast<vec3<f32>>(specular_color.xyz),
-        bitcast<f32>(specular_color.w), sheen.xyz, sheen.w, bitcast<f32>(layers.x), layers.y,
-        layers.z, layers.w, scene_texture_slot(first + 7u), scene_texture_slot(first + 10u),
-        scene_texture_slot(first + 13u), scene_texture_slot(first + 16u));
+        bitcast<f32>(specular_color.w), sheen.xyz, sheen.w, bitcast<f32>(layers.x),
+        bitcast<f32>(layers.y), layers.z, layers.w, bitcast<vec3<f32>>(volume.xyz), volume.w,
+        scene_texture_slot(first + 8u), scene_texture_slot(first + 11u),
+        scene_texture_slot(first + 14u), scene_texture_slot(first + 17u));
 }
 
 // The texture slot at material texel `first` (3 texels).

@@ -83,8 +83,38 @@ fn gbuffer_shading(g: GbufferSurface, camera: GpuCamera) -> Shading {
     s.params = SurfaceParams(g.base_color, g.metallic, g.roughness, material.f0_dielectric,
         material.specular, material.specular_color, material.clearcoat,
         material.clearcoat_roughness, material.transmission, material.sheen_color,
-        material.sheen_roughness, material.absorption);
+        material.sheen_roughness, material.absorption,
+        volume_eta(material, !g.back_face));
     return s;
+}
+
+// KHR_materials_volume's relative IOR across a surface of `material` seen from its front
+// (entering: the IOR) or back (leaving: its inverse); 0 for a thin-walled surface
+// (chiaro_reference's surface_at).
+fn volume_eta(material: GpuMaterial, front_facing: bool) -> f32 {
+    if !FEATURE_VOLUMES || (material.flags & MATERIAL_VOLUME) == 0u {
+        return 0.0;
+    }
+    return select(1.0 / material.ior, material.ior, front_facing);
+}
+
+// KHR_materials_volume: the transmittance exp(-attenuation d) of the segment from `origin` to
+// `hit` along `direction` when it ends on a volume's back face (so it ran inside the medium),
+// else 1 (chiaro_reference's radiance).
+fn medium_transmittance(origin: vec3<f32>, direction: vec3<f32>, hit: Hit) -> vec3<f32> {
+    if !FEATURE_VOLUMES || hit.instance == BVH_NO_HIT {
+        return vec3<f32>(1.0);
+    }
+    let material = scene_material(bvh_load_instance_whole(hit.instance).material);
+    if (material.flags & MATERIAL_VOLUME) == 0u {
+        return vec3<f32>(1.0);
+    }
+    let t = world_triangle(hit.instance, hit.triangle);
+    if dot(direction, cross(t.v1 - t.v0, t.v2 - t.v0)) <= 0.0 {
+        return vec3<f32>(1.0);
+    }
+    let d = distance(world_triangle_point(t, hit.barycentrics), origin);
+    return exp(-material.attenuation * d);
 }
 
 // The surface a ray hit; `shades` is false on the back face of a single-sided material
@@ -132,7 +162,8 @@ fn surface_at_hit(direction: vec3<f32>, hit: Hit) -> SurfaceHit {
         clamp(material.roughness * metallic_roughness.y, 0.0, 1.0), material.f0_dielectric,
         material.specular, material.specular_color, material.clearcoat,
         material.clearcoat_roughness, material.transmission, material.sheen_color,
-        material.sheen_roughness, material.absorption);
+        material.sheen_roughness, material.absorption,
+        volume_eta(material, dot(direction, geometric_front) < 0.0));
     return SurfaceHit(s, normals.shades);
 }
 

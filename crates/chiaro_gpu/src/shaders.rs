@@ -148,6 +148,7 @@ pub fn shared_constants() -> Vec<SharedConstant> {
         F32("PI", std::f32::consts::PI),
         F32("INV_PI", std::f32::consts::FRAC_1_PI),
         F32("MIRROR_ALPHA", chiaro_shading::brdf::MIRROR_ALPHA),
+        F32("ETA_DELTA_BAND", chiaro_shading::brdf::ETA_DELTA_BAND),
         F32("COAT_F0", chiaro_shading::brdf::COAT_F0),
         F32(
             "MIN_REFLECTION_COSINE",

@@ -78,9 +78,12 @@ impl PipelineFeatures {
     pub const TRANSMISSION: Self = Self(1 << 15);
     /// A sheen (KHR_materials_sheen) is layered over the base in the BRDF.
     pub const SHEEN: Self = Self(1 << 16);
+    /// Volumes (KHR_materials_volume): transmission refracts by the IOR, and light crossing a
+    /// medium is attenuated.
+    pub const VOLUMES: Self = Self(1 << 17);
 
     /// Every flag, in bit order.
-    pub const FLAGS: [FeatureFlag; 17] = [
+    pub const FLAGS: [FeatureFlag; 18] = [
         flag(
             Self::BASE_COLOR_TEXTURES,
             "FEATURE_BASE_COLOR_TEXTURES",
@@ -150,6 +153,11 @@ impl PipelineFeatures {
             "transmissive materials",
         ),
         flag(Self::SHEEN, "FEATURE_SHEEN", "sheen"),
+        flag(
+            Self::VOLUMES,
+            "FEATURE_VOLUMES",
+            "volumes (refraction and attenuation)",
+        ),
     ];
 
     /// No feature.
@@ -178,6 +186,7 @@ impl PipelineFeatures {
         add(features.clearcoat, Self::CLEARCOAT);
         add(features.transmission, Self::TRANSMISSION);
         add(features.sheen, Self::SHEEN);
+        add(features.volumes, Self::VOLUMES);
         add(features.point_lights, Self::POINT_LIGHTS);
         add(features.spot_lights, Self::SPOT_LIGHTS);
         add(features.directional_lights, Self::DIRECTIONAL_LIGHTS);

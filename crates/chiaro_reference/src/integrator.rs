@@ -4,7 +4,10 @@
 //! heuristic (Veach and Guibas 1995, "Optimally Combining Sampling Techniques for Monte Carlo
 //! Rendering"), so an emitter or the sky reached by a BRDF-sampled ray is weighted against the
 //! chance that light sampling would have found it. Delta lights and mirror bounces take their
-//! single strategy unweighted. Russian roulette (after a configurable depth) keeps the estimate
+//! single strategy unweighted. Inside a KHR_materials_volume mesh the throughput is attenuated
+//! by Beer-Lambert's law over each segment (the medium is known from the back face a segment
+//! ends on; media are not nested, and light sampled from inside one counts as occluded by its
+//! boundary, which a shadow ray hits). Russian roulette (after a configurable depth) keeps the estimate
 //! unbiased by dividing the survivors' throughput by their survival probability.
 
 use chiaro_bvh::{Ray, offset_ray_origin};
@@ -228,6 +231,11 @@ pub fn radiance(
             break;
         };
         let si = surface_at(scene, &ray, &hit);
+        if si.medium != Vec3::ZERO {
+            // Beer-Lambert along the segment inside a volume.
+            let distance = hit.t * ray.direction.length();
+            throughput *= (-si.medium * distance).exp();
+        }
         if si.emission != Vec3::ZERO {
             let weight = emission_weight(previous, |from| {
                 let record = &scene.bvh.instances()[hit.instance as usize];

@@ -3,7 +3,9 @@
 //!
 //! Conventions: a triangle's front face is counter-clockwise, reversed when the instance's world
 //! matrix has a negative determinant (glTF's rule). A back face of a single-sided material
-//! absorbs everything (as a rasterizer culling it would show nothing behind it either).
+//! absorbs everything (as a rasterizer culling it would show nothing behind it either). A
+//! KHR_materials_volume mesh is a medium behind its front faces: a ray that hits a back face
+//! has crossed it, and its transmission refracts into or out of it by the IOR.
 
 use chiaro_bvh::{Hit, Ray};
 use chiaro_scene::{AlphaMode, Material, Mesh};
@@ -31,6 +33,9 @@ pub struct SurfaceHit {
     pub params: SurfaceParams,
     /// Radiance emitted toward the ray's origin.
     pub emission: Vec3,
+    /// The attenuation coefficient of the medium the ray crossed to get here: a
+    /// KHR_materials_volume's when the ray hit its back face from inside, else zero.
+    pub medium: Vec3,
 }
 
 /// The three world-space vertices of `triangle` of `mesh` under `world`, reordered so that
@@ -224,6 +229,15 @@ pub fn surface_at(scene: &RenderScene, ray: &Ray, hit: &Hit) -> SurfaceHit {
         sheen_color: material.sheen_color,
         sheen_roughness: material.sheen_roughness,
         absorption: material.absorption,
+        eta: match material.volume {
+            Some(_) if front_facing => material.ior,
+            Some(_) => 1.0 / material.ior,
+            None => 0.0,
+        },
+    };
+    let medium = match material.volume {
+        Some(volume) if !front_facing => volume.attenuation_coefficient(),
+        _ => Vec3::ZERO,
     };
     let emission = if shades {
         emission_at(scene, material, uvs)
@@ -237,5 +251,6 @@ pub fn surface_at(scene: &RenderScene, ray: &Ray, hit: &Hit) -> SurfaceHit {
         shades,
         params,
         emission,
+        medium,
     }
 }

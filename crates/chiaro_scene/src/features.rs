@@ -53,6 +53,8 @@ pub struct SceneFeatures {
     pub transmission: bool,
     /// Some used material has a sheen (KHR_materials_sheen).
     pub sheen: bool,
+    /// Some used material bounds a medium (KHR_materials_volume): refraction and attenuation.
+    pub volumes: bool,
     /// Some used material is double-sided.
     pub double_sided: bool,
     /// The scene has a point light of non-zero intensity.
@@ -127,6 +129,7 @@ impl SceneFeatures {
         self.clearcoat |= m.clearcoat > 0.0;
         self.transmission |= m.transmission > 0.0;
         self.sheen |= m.sheen_color.max_element() > 0.0;
+        self.volumes |= m.volume.is_some() && m.transmission > 0.0;
         self.double_sided |= m.double_sided;
         self.emissive_triangles |= m.is_emissive();
     }
@@ -153,6 +156,7 @@ impl SceneFeatures {
             (self.clearcoat, "clear coats"),
             (self.transmission, "transmission"),
             (self.sheen, "sheen"),
+            (self.volumes, "volumes"),
             (self.double_sided, "double-sided materials"),
             (self.point_lights, "point lights"),
             (self.spot_lights, "spot lights"),

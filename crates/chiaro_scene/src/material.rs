@@ -120,6 +120,10 @@ pub struct Material {
     /// the dielectric's diffuse base transmitted through the surface, which is thin-walled.
     /// A transmissive surface shades both faces ([`Material::shades_both_sides`]).
     pub transmission: f32,
+    /// KHR_materials_volume: with a volume the mesh bounds a medium (a closed mesh, front
+    /// faces outward), so transmitted light refracts by [`Material::ior`] and is attenuated
+    /// inside; None (the default) leaves the surface thin-walled.
+    pub volume: Option<Volume>,
     /// KHR_materials_sheen's sheenColorFactor (linear, each channel in [0, 1]; black when
     /// absent: no sheen).
     pub sheen_color: Vec3,
@@ -128,6 +132,42 @@ pub struct Material {
     /// The notes' energy absorption factor in [0, 1]: the BRDF is scaled by (1 - absorption).
     /// Read from the material's glTF `extras` as `{"absorption": x}`; 0 when absent.
     pub absorption: f32,
+}
+
+/// The medium inside a KHR_materials_volume mesh: Beer-Lambert attenuation, light of colour
+/// `attenuation_color` left after `attenuation_distance` (the extension's thickness only serves
+/// rasterizers that do not trace the medium, and is not kept).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Volume {
+    /// The colour white light becomes after `attenuation_distance` inside (linear, each channel
+    /// in (0, 1]).
+    pub attenuation_color: Vec3,
+    /// Distance, in scene units, at which light has the attenuation colour (positive; +infinity:
+    /// no attenuation).
+    pub attenuation_distance: f32,
+}
+
+impl Default for Volume {
+    /// The extension's defaults: white at an infinite distance, a clear medium.
+    fn default() -> Self {
+        Self {
+            attenuation_color: Vec3::ONE,
+            attenuation_distance: f32::INFINITY,
+        }
+    }
+}
+
+impl Volume {
+    /// The attenuation coefficient per unit distance, -ln(attenuation_color) /
+    /// attenuation_distance per channel (0 for a clear medium): light crossing a distance d
+    /// inside keeps exp(-coefficient d).
+    pub fn attenuation_coefficient(&self) -> Vec3 {
+        if !(self.attenuation_distance.is_finite() && self.attenuation_distance > 0.0) {
+            return Vec3::ZERO;
+        }
+        let color = self.attenuation_color.clamp(Vec3::splat(f32::MIN_POSITIVE), Vec3::ONE);
+        -Vec3::new(color.x.ln(), color.y.ln(), color.z.ln()) / self.attenuation_distance
+    }
 }
 
 impl Default for Material {
@@ -154,6 +194,7 @@ impl Default for Material {
             clearcoat: 0.0,
             clearcoat_roughness: 0.0,
             transmission: 0.0,
+            volume: None,
             sheen_color: Vec3::ZERO,
             sheen_roughness: 0.0,
             absorption: 0.0,

@@ -72,6 +72,12 @@ pub const MIRROR_ALPHA: f32 = 1e-3;
 /// the Fresnel estimate misjudges it (for example a glossy highlight on a bright diffuse base).
 pub const MIN_LOBE_PROBABILITY: f32 = 0.1;
 
+/// A volume's surface whose relative IOR is within this of 1 transmits as a delta, whatever its
+/// roughness: at eta = 1 every microfacet passes wo straight on (the rough lobe's width scales
+/// with |eta - 1|, and its pdf with the inverse square), so the lobe is a delta along the
+/// refracted direction there.
+pub const ETA_DELTA_BAND: f32 = 1e-3;
+
 /// The normal-incidence reflectance of a dielectric of IOR 1.5: 0.04.
 pub const DEFAULT_F0_DIELECTRIC: f32 = 0.04;
 
@@ -117,6 +123,12 @@ pub struct SurfaceParams {
     pub sheen_roughness: f32,
     /// Fraction of energy absorbed: f is scaled by (1 - absorption). Clamped to [0, 1].
     pub absorption: f32,
+    /// KHR_materials_volume: the index of refraction on the far side of the surface over the
+    /// one on wo's side (the IOR when a ray enters the volume, its inverse when it leaves), so
+    /// that the transmission lobe refracts ([`transmission`]); 0 for a thin-walled surface
+    /// (the default), whose transmission does not refract. Values that are not finite and
+    /// positive count as 0.
+    pub eta: f32,
 }
 
 impl Default for SurfaceParams {
@@ -135,6 +147,7 @@ impl Default for SurfaceParams {
             sheen_color: Vec3::ZERO,
             sheen_roughness: 0.0,
             absorption: 0.0,
+            eta: 0.0,
         }
     }
 }
@@ -189,6 +202,11 @@ struct Material {
     /// KHR_materials_sheen's colour (black: no sheen).
     sheen_color: Vec3,
     sheen_roughness: f32,
+    /// KHR_materials_volume's relative IOR across the surface (0: thin-walled).
+    eta: f32,
+    /// The transmission lobe is a delta: a smooth surface, or a volume whose IOR matches on
+    /// both sides (within [`ETA_DELTA_BAND`]), where every microfacet passes wo straight on.
+    transmission_delta: bool,
 }
 
 /// The Fresnel weights of the lobes at one cosine: the specular lobe's colour, the diffuse
@@ -237,6 +255,11 @@ impl Material {
         let specular_color = p.specular_color.max(Vec3::ZERO);
         let alpha = ggx::alpha_from_roughness(p.roughness);
         let coat_alpha = ggx::alpha_from_roughness(p.clearcoat_roughness);
+        let eta = if p.eta.is_finite() && p.eta > 0.0 {
+            p.eta
+        } else {
+            0.0
+        };
         Self {
             base: p.base_color.clamp(Vec3::ZERO, Vec3::ONE),
             metallic: p.metallic.clamp(0.0, 1.0),
@@ -251,15 +274,28 @@ impl Material {
             transmission: p.transmission.clamp(0.0, 1.0),
             sheen_color: p.sheen_color.clamp(Vec3::ZERO, Vec3::ONE),
             sheen_roughness: p.sheen_roughness.clamp(0.0, 1.0),
+            eta,
+            transmission_delta: alpha < MIRROR_ALPHA || (eta > 0.0 && (eta - 1.0).abs() < ETA_DELTA_BAND),
         }
     }
 
-    /// The lobes' Fresnel weights at `cos` (h.wi for evaluation, n.wo for estimates):
+    /// The lobes' Fresnel weights at `cos` (h.wo for evaluation, n.wo for estimates):
     /// specular (1 - metallic) specular F_d + metallic F_m; beneath it
     /// (1 - metallic) (1 - specular max(F_d)) base_color, split into diffuse (1 - transmission)
-    /// and transmission.
+    /// and transmission. Inside a volume (eta < 1) F_d is Schlick's at the refracted cosine,
+    /// the angle on the optically thinner side, and 1 past the critical angle (total internal
+    /// reflection): the interface reflects the same share from either side.
     fn fresnel(&self, cos: f32) -> FresnelWeights {
-        let dielectric = fresnel_schlick(self.f0_dielectric, cos);
+        self.fresnel_outside(cos, self.outside_cosine(cos))
+    }
+
+    /// [`Material::fresnel`] at `cos` for the metal and, for the dielectric, at the cosine on
+    /// the optically thinner side, `outside` (None: total internal reflection, F_d = 1).
+    fn fresnel_outside(&self, cos: f32, outside: Option<f32>) -> FresnelWeights {
+        let dielectric = match outside {
+            Some(cos) => fresnel_schlick(self.f0_dielectric, cos),
+            None => Vec3::ONE,
+        };
         let metal = fresnel_schlick(self.base, cos);
         let dielectric_weight = 1.0 - self.metallic;
         let beneath =
@@ -279,7 +315,12 @@ impl Material {
     fn lobe_probabilities(&self, wo_z: f32) -> LobeProbabilities {
         let weights = self.fresnel(wo_z);
         let specular = luminance(weights.specular);
-        let diffuse = luminance(weights.diffuse + weights.transmission);
+        let mut diffuse = luminance(weights.diffuse + weights.transmission);
+        if diffuse <= 0.0 && self.refracts_past_the_critical_angle() {
+            // Inside a volume past the critical angle at the normal, tilted microfacets still
+            // refract: the transmission keeps the smallest share instead of none.
+            diffuse = f32::MIN_POSITIVE;
+        }
         let coat = self.coat_weight(wo_z);
         let sheen = self.sheen_estimate(wo_z);
         let base = self.sheen_scaling(wo_z, wo_z) * (specular + diffuse);
@@ -556,12 +597,15 @@ pub fn sample(p: &SurfaceParams, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BrdfS
 }
 
 mod layers;
+mod refraction;
 mod transmission;
 
 #[cfg(test)]
 mod chi2_tests;
 #[cfg(test)]
 mod finite_tests;
+#[cfg(test)]
+mod refraction_tests;
 #[cfg(test)]
 mod spec_tests;
 #[cfg(test)]

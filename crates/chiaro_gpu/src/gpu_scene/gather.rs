@@ -125,7 +125,9 @@ pub fn material(m: &Material) -> GpuMaterial {
         f0_dielectric: m.dielectric_f0(),
         absorption: m.absorption,
         normal_scale: m.normal_scale,
-        flags: mask | bit(m.shades_both_sides(), MATERIAL_DOUBLE_SIDED),
+        flags: mask
+            | bit(m.shades_both_sides(), MATERIAL_DOUBLE_SIDED)
+            | bit(m.volume.is_some(), MATERIAL_VOLUME),
         specular: m.specular,
         clearcoat: m.clearcoat,
         specular_color: m.specular_color.to_array(),
@@ -133,8 +135,13 @@ pub fn material(m: &Material) -> GpuMaterial {
         sheen_color: m.sheen_color.to_array(),
         sheen_roughness: m.sheen_roughness,
         transmission: m.transmission,
+        ior: m.ior,
         pad0: 0,
         pad1: 0,
+        attenuation: m
+            .volume
+            .map_or(Vec3::ZERO, |v| v.attenuation_coefficient())
+            .to_array(),
         pad2: 0,
         base_color_texture: slot(&m.base_color_texture),
         metallic_roughness_texture: slot(&m.metallic_roughness_texture),

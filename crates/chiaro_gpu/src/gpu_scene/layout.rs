@@ -17,6 +17,9 @@ pub const MATERIAL_DOUBLE_SIDED: u32 = 2;
 /// Material flag: alpha mode blend (alpha is the probability that a ray stops there:
 /// `chiaro_shading::coverage`).
 pub const MATERIAL_ALPHA_BLEND: u32 = 4;
+/// Material flag: a KHR_materials_volume mesh, a medium behind its front faces (its
+/// transmission refracts by the IOR; light inside is attenuated).
+pub const MATERIAL_VOLUME: u32 = 8;
 
 /// Mesh flag: the mesh has UV set 0.
 pub const MESH_HAS_UV0: u32 = 1;
@@ -66,6 +69,7 @@ pub fn constants() -> Vec<SharedConstant> {
         U32("MATERIAL_ALPHA_MASK", MATERIAL_ALPHA_MASK),
         U32("MATERIAL_DOUBLE_SIDED", MATERIAL_DOUBLE_SIDED),
         U32("MATERIAL_ALPHA_BLEND", MATERIAL_ALPHA_BLEND),
+        U32("MATERIAL_VOLUME", MATERIAL_VOLUME),
         U32("MESH_HAS_UV0", MESH_HAS_UV0),
         U32("MESH_HAS_UV1", MESH_HAS_UV1),
         U32("MESH_HAS_TANGENTS", MESH_HAS_TANGENTS),
@@ -191,10 +195,15 @@ pub struct GpuMaterial {
     pub sheen_roughness: f32,
     /// KHR_materials_transmission's factor (0: opaque).
     pub transmission: f32,
+    /// The index of refraction (KHR_materials_ior): a volume's surface refracts by it.
+    pub ior: f32,
     /// Padding, zero.
     pub pad0: u32,
     /// Padding, zero.
     pub pad1: u32,
+    /// KHR_materials_volume's attenuation coefficient per unit distance (zero: clear, or no
+    /// volume).
+    pub attenuation: [f32; 3],
     /// Padding, zero.
     pub pad2: u32,
     /// Base colour texture.
@@ -356,7 +365,7 @@ mod tests {
     #[test]
     fn sizes_are_multiples_of_their_alignment() {
         assert_eq!(size_of::<GpuVertex>(), 64);
-        assert_eq!(size_of::<GpuMaterial>(), 304);
+        assert_eq!(size_of::<GpuMaterial>(), 320);
         assert_eq!(size_of::<GpuLight>(), 64);
         assert_eq!(size_of::<GpuInstanceExtra>(), 64);
         assert_eq!(size_of::<GpuSceneInfo>(), 64);

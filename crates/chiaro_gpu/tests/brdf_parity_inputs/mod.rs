@@ -29,7 +29,7 @@ pub struct BrdfInput {
     pub transmission: f32,
     pub sheen_roughness: f32,
     pub sheen_color: [f32; 3],
-    pub pad: f32,
+    pub eta: f32,
 }
 
 /// A unit direction with cosine `mu` to the normal and azimuth `phi`.
@@ -87,6 +87,12 @@ fn random_params(rng: &mut Pcg32) -> SurfaceParams {
     let sheen = f32::from(u8::from(pick(&[0.0, 1.0]) >= 0.5));
     let sheen_color = Vec3::new(pick(&[0.0, 1.0]), pick(&[1.0]), pick(&[0.0, 1.0])) * sheen;
     let sheen_roughness = pick(&[0.0, 1.0, 0.3]);
+    // Half the materials are thin-walled; the others refract, entering a volume or leaving it.
+    let eta = match rng.next_u32() % 6 {
+        0..=2 => 0.0,
+        3 => [1.5, 1.0 / 1.5, 1.0][(rng.next_u32() % 3) as usize],
+        _ => 0.25 + 3.0 * rng.next_f32(),
+    };
     SurfaceParams {
         base_color,
         metallic,
@@ -100,6 +106,7 @@ fn random_params(rng: &mut Pcg32) -> SurfaceParams {
         sheen_color,
         sheen_roughness,
         absorption,
+        eta,
     }
 }
 
@@ -139,7 +146,7 @@ pub fn random_input(rng: &mut Pcg32) -> BrdfInput {
         transmission: p.transmission,
         sheen_roughness: p.sheen_roughness,
         sheen_color: p.sheen_color.to_array(),
-        pad: 0.0,
+        eta: p.eta,
     }
 }
 
@@ -157,5 +164,6 @@ pub fn params(x: &BrdfInput) -> SurfaceParams {
         sheen_color: Vec3::from_array(x.sheen_color),
         sheen_roughness: x.sheen_roughness,
         absorption: x.absorption,
+        eta: x.eta,
     }
 }

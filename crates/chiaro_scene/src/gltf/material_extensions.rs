@@ -1,6 +1,6 @@
 //! Material extensions read from a material's `extensions` JSON: KHR_materials_specular,
-//! KHR_materials_clearcoat, KHR_materials_sheen and KHR_materials_transmission (thin-walled: a
-//! KHR_materials_volume that would make it a volume is reported and not read). Each factor is checked against its range; a value outside it is
+//! KHR_materials_clearcoat, KHR_materials_sheen, KHR_materials_transmission and
+//! KHR_materials_volume. Each factor is checked against its range; a value outside it is
 //! repaired with a line that says so, never trusted. Their textures are not read yet: a file
 //! that names one gets a repair line saying that the factor alone is used.
 
@@ -8,7 +8,7 @@ use glam::Vec3;
 use serde_json::Value;
 
 use crate::gltf::materials::MaterialImporter;
-use crate::material::Material;
+use crate::material::{Material, Volume};
 
 impl MaterialImporter<'_> {
     /// KHR_materials_specular: `specularFactor` in [0, 1] (default 1) and `specularColorFactor`,
@@ -67,8 +67,8 @@ impl MaterialImporter<'_> {
     }
 
     /// KHR_materials_transmission: `transmissionFactor` in [0, 1] (default 0). The surface is
-    /// thin-walled; KHR_materials_volume with a thickness above 0 (refraction and attenuation
-    /// inside a closed mesh) is not read yet, and a repair line says so.
+    /// thin-walled unless KHR_materials_volume gives it a `thicknessFactor` above 0
+    /// ([`MaterialImporter::read_volume`]).
     pub(super) fn read_transmission(
         &mut self,
         element: &str,
@@ -88,17 +88,58 @@ impl MaterialImporter<'_> {
                 &["transmissionTexture"],
             );
         }
-        if let Some(volume) = m.extension_value("KHR_materials_volume")
-            && volume
-                .get("thicknessFactor")
-                .and_then(Value::as_f64)
-                .is_some_and(|t| t > 0.0)
-        {
-            self.repair(
-                element.into(),
-                "KHR_materials_volume is not read: the surface is rendered thin-walled".into(),
-            );
+        self.read_volume(element, m, out);
+    }
+
+    /// KHR_materials_volume: a `thicknessFactor` above 0 makes the mesh a medium (refraction
+    /// by the IOR, Beer-Lambert attenuation inside) when the material transmits; its
+    /// `attenuationColor` (three numbers in [0, 1], default white) and `attenuationDistance`
+    /// (above 0, default infinite) set the attenuation. The thickness itself (and its texture)
+    /// only approximates the medium for rasterizers; a tracer follows the rays through it.
+    fn read_volume(&mut self, element: &str, m: &gltf::Material, out: &mut Material) {
+        let Some(ext) = m.extension_value("KHR_materials_volume") else {
+            return;
+        };
+        let thickness = match ext.get("thicknessFactor") {
+            None => 0.0,
+            Some(value) => match value.as_f64() {
+                Some(t) if t.is_finite() && t >= 0.0 => t,
+                _ => {
+                    self.repair(
+                        element.into(),
+                        format!("volume thickness {value} is not a number >= 0: thin-walled"),
+                    );
+                    0.0
+                }
+            },
+        };
+        if thickness <= 0.0 || out.transmission <= 0.0 {
+            return;
         }
+        let mut volume = Volume::default();
+        if let Some(value) = ext.get("attenuationColor") {
+            match three_numbers(value) {
+                Some(color) if color.min_element() > 0.0 && color.max_element() <= 1.0 => {
+                    volume.attenuation_color = color;
+                }
+                _ => self.repair(
+                    element.into(),
+                    format!("attenuation colour {value} is not three numbers in (0, 1]: white used"),
+                ),
+            }
+        }
+        if let Some(value) = ext.get("attenuationDistance") {
+            match value.as_f64() {
+                Some(d) if d > 0.0 && (d as f32).is_finite() => {
+                    volume.attenuation_distance = d as f32;
+                }
+                _ => self.repair(
+                    element.into(),
+                    format!("attenuation distance {value} is not a number > 0: no attenuation"),
+                ),
+            }
+        }
+        out.volume = Some(volume);
     }
 
     /// KHR_materials_sheen: `sheenColorFactor`, three numbers in [0, 1] (default black: no

@@ -3,7 +3,7 @@
 //! Read: the default scene (or the first), its node hierarchy, triangle primitives (strips and
 //! fans converted, points and lines skipped), materials with KHR_materials_emissive_strength,
 //! KHR_materials_ior, KHR_materials_specular's, KHR_materials_clearcoat's,
-//! KHR_materials_sheen's and KHR_materials_transmission's factors (thin-walled),
+//! KHR_materials_sheen's and KHR_materials_transmission's factors, KHR_materials_volume,
 //! KHR_texture_transform, KHR_lights_punctual, EXT_mesh_gpu_instancing, cameras, skins (each
 //! skinned mesh instance posed once at load, see `skins`). Every byte range is
 //! checked before it is read; faults are errors naming the file and the element, or repairs
@@ -32,7 +32,7 @@ use crate::load::LoadOptions;
 use crate::scene_builder::SceneBuilder;
 
 /// Extensions chiaro reads; a file that requires any other is refused.
-pub const SUPPORTED_EXTENSIONS: [&str; 9] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 10] = [
     "EXT_mesh_gpu_instancing",
     "KHR_lights_punctual",
     "KHR_materials_clearcoat",
@@ -41,6 +41,7 @@ pub const SUPPORTED_EXTENSIONS: [&str; 9] = [
     "KHR_materials_sheen",
     "KHR_materials_specular",
     "KHR_materials_transmission",
+    "KHR_materials_volume",
     "KHR_texture_transform",
 ];
 

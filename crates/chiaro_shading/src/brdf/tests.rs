@@ -51,6 +51,12 @@ pub(super) fn random_params(rng: &mut Pcg32) -> SurfaceParams {
     let sheen = f32::from(u8::from(pick(&[0.0, 1.0]) >= 0.5));
     let sheen_color = Vec3::new(pick(&[0.0, 1.0]), pick(&[1.0]), pick(&[0.0, 1.0])) * sheen;
     let sheen_roughness = pick(&[0.0, 1.0, 0.3]);
+    // Half the materials are thin-walled; the others refract, entering a volume or leaving it.
+    let eta = match rng.next_u32() % 6 {
+        0..=2 => 0.0,
+        3 => [1.5, 1.0 / 1.5, 1.0][(rng.next_u32() % 3) as usize],
+        _ => 0.25 + 3.0 * rng.next_f32(),
+    };
     SurfaceParams {
         base_color,
         metallic,
@@ -64,6 +70,7 @@ pub(super) fn random_params(rng: &mut Pcg32) -> SurfaceParams {
         sheen_color,
         sheen_roughness,
         absorption,
+        eta,
     }
 }
 
@@ -334,14 +341,26 @@ fn sample_agrees_with_eval_and_pdf() {
         };
         assert!(s.wi.z != 0.0 && (s.wi.length() - 1.0).abs() < 1e-4, "{s:?}");
         if s.delta && s.wi.z < 0.0 {
-            // A smooth thin-walled surface transmits straight through.
+            // A smooth thin-walled surface transmits straight through; a smooth volume's
+            // surface refracts by Snell's law, with radiance scaled by 1 / eta^2.
             delta += 1;
             let m = Material::new(&p);
-            assert!(m.mirror && s.wi == -wo, "{p:?} {wo} {s:?}");
+            let eta = m.eta;
+            if eta > 0.0 {
+                let sin_o = (1.0 - wo.z * wo.z).max(0.0).sqrt();
+                let sin_i = (1.0 - s.wi.z * s.wi.z).max(0.0).sqrt();
+                assert!((sin_o - eta * sin_i).abs() < 1e-4, "Snell: {p:?} {wo} {s:?}");
+                assert!(s.wi.x * wo.x <= 0.0 && s.wi.y * wo.y <= 0.0);
+            } else {
+                assert!(s.wi == -wo, "{p:?} {wo} {s:?}");
+            }
+            assert!(m.transmission_delta, "{p:?}");
             let probabilities = m.lobe_probabilities(wo.z);
             assert_eq!(s.pdf, probabilities.transmission);
+            let (wi_z, radiance) = if eta > 0.0 { (-s.wi.z, 1.0 / (eta * eta)) } else { (wo.z, 1.0) };
             let expected = m.fresnel(wo.z).transmission
-                * (m.base_weight(wo.z) * m.sheen_scaling(wo.z, wo.z) * m.scale / s.pdf);
+                * (m.base_weight(wo.z) * m.sheen_scaling(wo.z, wi_z) * m.scale * radiance
+                    / s.pdf);
             assert!(
                 (s.weight - expected).abs().max_element() < 1e-5 * expected.max_element().max(1.0)
             );
@@ -484,6 +503,7 @@ fn parameters_are_clamped() {
         sheen_color: Vec3::new(2.0, -1.0, 0.5),
         sheen_roughness: 3.0,
         absorption: -2.0,
+        eta: f32::NAN,
     };
     let tame = SurfaceParams {
         base_color: Vec3::new(1.0, 0.0, 0.5),
@@ -498,6 +518,7 @@ fn parameters_are_clamped() {
         sheen_color: Vec3::new(1.0, 0.0, 0.5),
         sheen_roughness: 1.0,
         absorption: 0.0,
+        eta: 0.0,
     };
     assert_eq!(eval(&wild, wo, wi), eval(&tame, wo, wi));
     assert_eq!(pdf(&wild, wo, wi), pdf(&tame, wo, wi));

@@ -10,6 +10,9 @@
 //! V is the height-correlated Smith visibility the reflection uses (the extension's
 //! non-normative note writes the separable form). A smooth surface (alpha below
 //! [`MIRROR_ALPHA`](super::MIRROR_ALPHA)) transmits straight through: a delta lobe along -wo.
+//!
+//! With KHR_materials_volume (a relative IOR `eta` above 0) the lobe refracts instead
+//! ([`super::refraction`]).
 
 use glam::{Vec2, Vec3};
 
@@ -24,8 +27,11 @@ fn mirrored(w: Vec3) -> Vec3 {
 impl Material {
     /// f for wi below the surface (wi.z < 0), the absorption scale included.
     pub(super) fn transmission_eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
-        if self.transmission <= 0.0 || self.mirror {
+        if self.transmission <= 0.0 || self.transmission_delta {
             return Vec3::ZERO;
+        }
+        if self.eta > 0.0 {
+            return self.refraction_eval(wo, wi);
         }
         let up = mirrored(wi);
         let h = half_vector(wo, up);
@@ -37,8 +43,11 @@ impl Material {
     /// The pdf with which the transmission lobe draws wi below the surface (selection
     /// included; 0 for the delta).
     pub(super) fn transmission_pdf(&self, wo: Vec3, wi: Vec3, p: LobeProbabilities) -> f32 {
-        if p.transmission <= 0.0 || self.mirror {
+        if p.transmission <= 0.0 || self.transmission_delta {
             return 0.0;
+        }
+        if self.eta > 0.0 {
+            return self.refraction_pdf(wo, wi, p);
         }
         let up = mirrored(wi);
         p.transmission * ggx::reflected_vndf_pdf(wo, half_vector(wo, up), self.alpha)
@@ -52,7 +61,10 @@ impl Material {
         u: Vec2,
         p: LobeProbabilities,
     ) -> Option<BrdfSample> {
-        if self.mirror {
+        if self.eta > 0.0 {
+            return self.refraction_sample(wo, u, p);
+        }
+        if self.transmission_delta {
             let layers = self.base_weight(wo.z) * self.sheen_scaling(wo.z, wo.z);
             let weight = self.fresnel(wo.z).transmission * layers * self.scale;
             return Some(BrdfSample {
