@@ -458,7 +458,7 @@ fn material_extension_factors_are_read_and_bad_ones_repaired() {
         "clear coat factor 4 clamped to [0, 1]",
         "clear coat roughness \"rough\" is not a number: the default is used",
         "sheen colour [0.5, 1.5, 0.25] clamped to [0, 1]",
-        "attenuation colour [0.0, 0.5, 2.0] is not three numbers in (0, 1]: white used",
+        "attenuation colour [0.0,0.5,2.0] is not three numbers in (0, 1]: white used",
         "attenuation distance -1 is not a number > 0: no attenuation",
     ] {
         assert!(

@@ -77,11 +77,28 @@ fn error3(x: &BrdfInput, gpu: [f32; 3], cpu: Vec3) -> f32 {
 /// the horizon).
 const REL_EVAL_GRAZING_TRANSMISSION: f32 = 1e-3;
 
+/// The same bound for a volume's surface (KHR_materials_volume): inside it the Fresnel term goes
+/// through the refracted cosine sqrt(1 - sin^2 / eta^2), whose rounding grows without bound
+/// towards the critical angle, and a refraction's half vector through a sum of nearly opposite
+/// directions (measured worst 1.6e-4 on llvmpipe's GL).
+const REL_EVAL_VOLUME: f32 = 1e-3;
+
+/// The same bound for two directions both within 1e-3 of the horizon and nearly opposite: their
+/// half vector is the sum of nearly opposite vectors, rounded differently with fused
+/// multiply-adds (measured 1.2e-4 on llvmpipe's GL at 1e-5 and 7e-4 above the horizon).
+const REL_EVAL_OPPOSITE_AT_THE_HORIZON: f32 = 1e-3;
+
 /// The relative bound of eval, pdf and the weights for this input's material and directions.
 fn rel_eval(x: &BrdfInput) -> f32 {
     let grazing = x.wo[2].abs() < 1e-3 || x.wi[2].abs() < 1e-3;
+    let both_grazing = x.wo[2].abs() < 1e-3 && x.wi[2].abs() < 1e-3;
+    let opposite = Vec3::from_array(x.wo).dot(Vec3::from_array(x.wi)) < -0.99;
     if x.sheen_color.iter().any(|c| *c > 0.0) {
         REL_EVAL_SHEEN
+    } else if x.eta > 0.0 {
+        REL_EVAL_VOLUME
+    } else if both_grazing && opposite {
+        REL_EVAL_OPPOSITE_AT_THE_HORIZON
     } else if x.transmission > 0.0 && grazing {
         REL_EVAL_GRAZING_TRANSMISSION
     } else {
@@ -348,6 +365,10 @@ fn check(x: &BrdfInput, g: &BrdfOutput, worst: &mut Worst) -> Result<(), String>
     let Some(s) = cpu else {
         return Ok(());
     };
+    if refracted_at_the_rim {
+        // The direction, and f and the pdf there (through wo.h, a rounding error), follow h.
+        return Ok(());
+    }
     let gwi = Vec3::from_array(g.wi);
     // At the horizon z is the square root of a rounding difference (see HORIZON_TOL).
     let dz_tol = if s.wi.z.abs() < HORIZON_TOL {
@@ -410,9 +431,8 @@ fn check(x: &BrdfInput, g: &BrdfOutput, worst: &mut Worst) -> Result<(), String>
         g.sample_pdf
     );
     worst.pdf_at_gpu_direction = worst.pdf_at_gpu_direction.max(e);
-    if s.wi.z.abs() < HORIZON_TOL || refracted_at_the_rim {
-        // There the weight and pdf depend on z (or h), which is the square root of a rounding
-        // error.
+    if s.wi.z.abs() < HORIZON_TOL {
+        // There the weight and pdf depend on z, which is the square root of a rounding error.
         return Ok(());
     }
     let e = error3(x, g.weight, s.weight);

@@ -199,6 +199,12 @@ fn cornell_with_every_feature() -> World {
     mask_tall_block(&mut world);
     edit_material(&mut world, "short block", |m| {
         m.emissive = Vec3::new(0.2, 0.1, 0.05);
+        m.transmission = 0.9;
+        m.roughness = 0.2;
+        m.volume = Some(chiaro_scene::Volume {
+            attenuation_color: Vec3::new(0.9, 0.6, 0.3),
+            attenuation_distance: 0.2,
+        });
     });
     // A normal-mapped panel in front of the back wall (the box is 0.555 m wide) (tangents generated from its UVs).
     let (panel, _) = Mesh::new(
