@@ -1,6 +1,6 @@
 """The hand-made glTF test scenes (plain JSON with an embedded buffer; no Blender needed):
 quads under the constant environment, a point light over a floor, vertex colours, alpha BLEND and
-the material extensions clearcoat, specular and transmission."""
+the material extensions clearcoat, specular, transmission and volume."""
 
 import base64
 import json
@@ -65,6 +65,35 @@ class GltfBuilder:
         if colors is not None:
             attrs["COLOR_0"] = self.accessor(np.array(colors, np.float32), "VEC4")
         prim = {"attributes": attrs, "indices": self.accessor(idx, "SCALAR", 34963),
+                "material": material}
+        self.doc["meshes"].append({"primitives": [prim]})
+        return len(self.doc["meshes"]) - 1
+
+    def sphere(self, radius, material, rings=48, segments=96):
+        """A UV sphere of this radius about the origin, outward normals, counter-clockwise from
+        outside."""
+        pos, nrm = [], []
+        for i in range(rings + 1):
+            theta = math.pi * i / rings
+            for j in range(segments + 1):
+                phi = 2.0 * math.pi * j / segments
+                n = [math.sin(theta) * math.cos(phi), math.sin(theta) * math.sin(phi),
+                     math.cos(theta)]
+                nrm.append(n)
+                pos.append([radius * c for c in n])
+        idx = []
+        for i in range(rings):
+            for j in range(segments):
+                a = i * (segments + 1) + j
+                b = a + segments + 1
+                if i > 0:
+                    idx += [a, b, a + 1]
+                if i < rings - 1:
+                    idx += [a + 1, b, b + 1]
+        attrs = {"POSITION": self.accessor(np.array(pos, np.float32), "VEC3"),
+                 "NORMAL": self.accessor(np.array(nrm, np.float32), "VEC3")}
+        prim = {"attributes": attrs,
+                "indices": self.accessor(np.array(idx, np.uint32), "SCALAR", 34963),
                 "material": material}
         self.doc["meshes"].append({"primitives": [prim]})
         return len(self.doc["meshes"]) - 1
@@ -212,5 +241,25 @@ def make_test_scenes(folder):
     b.node(mesh=b.quad(2.0, pane, z=0.5), name="pane")
     p = os.path.join(folder, "i_transmission_pane.gltf")
     b.write(p, {"probe": "centre"})
+    paths.append(p)
+
+    # (j) KHR_materials_volume: two clear glass spheres of IOR 1.5 (radius 0.45, transmission 1,
+    # thickness 1, no attenuation), smooth on the left and roughness 0.3 on the right, 0.6 m in
+    # front of a backdrop whose vertex colours (red, green, blue, white corners) show where the
+    # refracted rays land. Double-sided: chiaro shades both faces of a transmissive material.
+    b = GltfBuilder()
+    back = b.material(name="gradient_backdrop_r1", **pbr([1.0, 1.0, 1.0], 0.0, 1.0))
+    colors = [[0.9, 0.1, 0.1, 1.0], [0.1, 0.9, 0.1, 1.0], [0.1, 0.1, 0.9, 1.0],
+              [0.9, 0.9, 0.9, 1.0]]
+    b.node(mesh=b.quad(3.0, back, colors=colors), name="backdrop")
+    for name, x, roughness in [("smooth", -0.55, 0.0), ("rough", 0.55, 0.3)]:
+        glass = b.material(name=f"glass_{name}_r{roughness}", doubleSided=True, **pbr(
+            [1.0, 1.0, 1.0], 0.0, roughness,
+            extensions={"KHR_materials_transmission": {"transmissionFactor": 1.0},
+                        "KHR_materials_volume": {"thicknessFactor": 1.0}}))
+        b.node(mesh=b.sphere(0.45, glass), name=f"{name} sphere", translation=[x, 0.0, 0.6])
+    with_ext(b, "KHR_materials_transmission", "KHR_materials_volume")
+    p = os.path.join(folder, "j_volume_spheres.gltf")
+    b.write(p)
     paths.append(p)
     return paths
