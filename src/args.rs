@@ -111,6 +111,31 @@ impl LightUnitsArgs {
     }
 }
 
+/// `--time`: the animation time every command that loads a scene poses it at.
+#[derive(Clone, Copy, clap::Args)]
+pub struct TimeArgs {
+    /// Poses the scene's glTF animations at this time, in seconds (each clip loops over its
+    /// length). Without it the scene keeps the pose its nodes describe.
+    #[arg(long, value_parser = finite_seconds, allow_negative_numbers = true)]
+    pub time: Option<f64>,
+}
+
+/// `--fps`: a frame rate in `0.001..=10000`.
+pub fn frame_rate(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(f) if (0.001..=10_000.0).contains(&f) => Ok(f),
+        _ => Err(format!("{text:?} is not a frame rate in 0.001..=10000")),
+    }
+}
+
+/// A finite number of seconds.
+fn finite_seconds(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(t) if t.is_finite() => Ok(t),
+        _ => Err(format!("{text:?} is not a finite number of seconds")),
+    }
+}
+
 /// What `--env` names: a constant colour or an image file.
 #[derive(Clone, Debug, PartialEq)]
 pub enum EnvArg {

@@ -48,6 +48,8 @@ struct SceneArgs {
     allow_outside_files: bool,
     #[command(flatten)]
     light_units: args::LightUnitsArgs,
+    #[command(flatten)]
+    time: args::TimeArgs,
 }
 
 /// The memory a render may take.
@@ -99,6 +101,14 @@ enum Command {
         allow_outside_files: bool,
         #[command(flatten)]
         light_units: args::LightUnitsArgs,
+        #[command(flatten)]
+        time: args::TimeArgs,
+        /// Plays the animations: each frame advances the time by 1 / --fps from --time (or 0).
+        #[arg(long)]
+        animate: bool,
+        /// Frames per second of the animation time with --animate (0.001..=10000).
+        #[arg(long, default_value_t = 30.0, value_parser = args::frame_rate)]
+        fps: f64,
         #[command(flatten)]
         memory: MemoryArgs,
         /// Image size, WxH.
@@ -183,6 +193,8 @@ enum Command {
         allow_outside_files: bool,
         #[command(flatten)]
         light_units: args::LightUnitsArgs,
+        #[command(flatten)]
+        time: args::TimeArgs,
         #[command(flatten)]
         memory: MemoryArgs,
         /// Window size, WxH.
@@ -327,6 +339,9 @@ fn main() -> Result<()> {
             env_strength,
             allow_outside_files,
             light_units,
+            time,
+            animate,
+            fps,
             memory,
             size,
             frames,
@@ -340,8 +355,19 @@ fn main() -> Result<()> {
                 env_strength,
                 allow_outside_files,
                 light_units,
+                time,
             };
-            render(&scene, &memory, size, frames, &out, frame.settings(), seed)
+            let animation = animate.then_some(fps);
+            render(
+                &scene,
+                &memory,
+                size,
+                frames,
+                &out,
+                frame.settings(),
+                seed,
+                animation,
+            )
         }
         Command::Compare(args) => compare::run(&args),
         Command::Bench(args) => bench::run(&args),
@@ -351,6 +377,7 @@ fn main() -> Result<()> {
             env_strength,
             allow_outside_files,
             light_units,
+            time,
             memory,
             size,
             script,
@@ -364,6 +391,7 @@ fn main() -> Result<()> {
                 env_strength,
                 allow_outside_files,
                 light_units,
+                time,
             };
             view(
                 &scene,
@@ -432,6 +460,9 @@ fn load(args: &SceneArgs) -> Result<World> {
         };
         world.insert_resource(environment);
     }
+    if let Some(seconds) = args.time.time {
+        chiaro::scene::pose_at(&mut world, seconds);
+    }
     Ok(world)
 }
 
@@ -450,6 +481,9 @@ fn info(args: &SceneArgs) -> Result<()> {
     Ok(())
 }
 
+/// Renders `args`' scene on the GPU; with `animation` (frames per second) each frame advances
+/// the animation time by 1 / fps from `--time`.
+#[allow(clippy::too_many_arguments)]
 fn render(
     args: &SceneArgs,
     memory: &MemoryArgs,
@@ -458,6 +492,7 @@ fn render(
     out: &Path,
     frame: FrameSettings,
     seed: u64,
+    animation: Option<f64>,
 ) -> Result<()> {
     let exr = match out.extension().and_then(|e| e.to_str()) {
         Some("exr") => true,
@@ -478,8 +513,15 @@ fn render(
         frame,
     };
     let start = Instant::now();
+    let start_time = args.time.time.unwrap_or(0.0);
     let output = renderer
-        .render(&mut world, &settings)
+        .render_with(&mut world, &settings, |world, k| {
+            if let Some(fps) = animation {
+                world.insert_resource(chiaro::scene::Time {
+                    seconds: start_time + f64::from(k) / fps,
+                });
+            }
+        })
         .context("cannot render")?;
     let seconds = start.elapsed().as_secs_f64();
     if exr {

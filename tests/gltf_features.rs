@@ -441,7 +441,12 @@ fn material_extension_factors_are_read_and_bad_ones_repaired() {
         (Vec3::new(0.5, 0.25, 1.0), 2.0)
     );
     let sigma = volume.attenuation_coefficient();
-    assert!((sigma - Vec3::new(0.5f32.ln(), 0.25f32.ln(), 0.0) / -2.0).abs().max_element() < 1e-6);
+    assert!(
+        (sigma - Vec3::new(0.5f32.ln(), 0.25f32.ln(), 0.0) / -2.0)
+            .abs()
+            .max_element()
+            < 1e-6
+    );
     let glowing = named("glowing");
     assert_eq!(glowing.volume, Some(chiaro_scene::Volume::default()));
     assert_eq!(

@@ -208,10 +208,21 @@ impl Renderer {
         world: &mut World,
         settings: &RenderSettings,
     ) -> Result<RenderOutput, RenderError> {
+        self.render_with(world, settings, |_, _| {})
+    }
+
+    /// [`Renderer::render`], calling `before_frame(world, k)` before frame k's scene systems
+    /// run: an edit made there (a new animation time, a moved object) shows up in that frame.
+    pub fn render_with(
+        &mut self,
+        world: &mut World,
+        settings: &RenderSettings,
+        before_frame: impl FnMut(&mut World, u32),
+    ) -> Result<RenderOutput, RenderError> {
         self.accumulated = 0;
         self.frame_index = 0;
         self.reset_history = true;
-        let times = self.accumulate(world, settings, settings.frames.max(1))?;
+        let times = self.accumulate_with(world, settings, settings.frames.max(1), before_frame)?;
         let mut output = self.read(settings)?;
         output.times = times;
         Ok(output)
@@ -227,11 +238,22 @@ impl Renderer {
         settings: &RenderSettings,
         frames: u32,
     ) -> Result<Vec<PassTimes>, RenderError> {
+        self.accumulate_with(world, settings, frames, |_, _| {})
+    }
+
+    fn accumulate_with(
+        &mut self,
+        world: &mut World,
+        settings: &RenderSettings,
+        frames: u32,
+        mut before_frame: impl FnMut(&mut World, u32),
+    ) -> Result<Vec<PassTimes>, RenderError> {
         self.prepare(world, settings, true)?;
         // Grown as frames finish, not reserved up front: a count of frames costs no memory
         // before they are drawn.
         let mut times = Vec::new();
-        for _ in 0..frames {
+        for k in 0..frames {
+            before_frame(world, k);
             self.schedule.run(world);
             times.push(self.draw(world, settings)?);
         }

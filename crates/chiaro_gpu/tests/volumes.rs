@@ -208,7 +208,10 @@ fn glass_spheres_match_the_cpu_reference() {
         );
     }
     let grey = b.add_material(Material::diffuse("floor", Vec3::splat(0.5), 0.8));
-    let mesh = b.add_mesh("floor mesh", "floor", floor(20.0)).unwrap().unwrap();
+    let mesh = b
+        .add_mesh("floor mesh", "floor", floor(20.0))
+        .unwrap()
+        .unwrap();
     b.add_instance(
         "floor",
         mesh,
@@ -245,7 +248,10 @@ fn glass_spheres_match_the_cpu_reference() {
     // The realtime frame traces the same refraction (its approximation is the denoiser's
     // blur): its error against the CPU, measured.
     let realtime = renderer
-        .render(&mut world, &settings(size, 32, 1, mode(RenderMode::Realtime)))
+        .render(
+            &mut world,
+            &settings(size, 32, 1, mode(RenderMode::Realtime)),
+        )
         .unwrap();
     let error = masked_rel_mse(&realtime.hdr, &cpu.image, &mask);
     eprintln!("realtime: relMSE {error:.3e} against the CPU");

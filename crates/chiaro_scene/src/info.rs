@@ -70,6 +70,8 @@ pub struct SceneInfo {
     pub skinned_instances: usize,
     /// The skins posing them: each one's joint count, by skin index.
     pub skins: BTreeMap<u32, u32>,
+    /// The animation clips: each one's name, channel count and duration in seconds.
+    pub animations: Vec<(String, usize, f32)>,
     /// Triangles over all instances whose material emits.
     pub emissive_triangles: usize,
     /// The active camera.
@@ -144,6 +146,15 @@ impl SceneInfo {
             skinned_instances += 1;
             skins.insert(skinned.skin, skinned.joints);
         }
+        let animations = world
+            .get_resource::<crate::animation::Animations>()
+            .map(|a| {
+                a.clips
+                    .iter()
+                    .map(|c| (c.name.clone(), c.channels.len(), c.duration()))
+                    .collect()
+            })
+            .unwrap_or_default();
         let nodes = world.query::<&Transform>().iter(world).count();
         let camera = world.get_resource::<ActiveCamera>().and_then(|active| {
             let e = world.get_entity(active.0).ok()?;
@@ -209,6 +220,7 @@ impl SceneInfo {
             lights,
             skinned_instances,
             skins,
+            animations,
             emissive_triangles,
             camera,
             environment,
@@ -264,6 +276,18 @@ impl fmt::Display for SceneInfo {
                 plural(self.skins.len(), "skin"),
                 joints.join(", ")
             )?;
+        }
+        if self.animations.is_empty() {
+            writeln!(f, "animations: none")?;
+        } else {
+            let clips: Vec<String> = self
+                .animations
+                .iter()
+                .map(|(name, channels, seconds)| {
+                    format!("{name} ({channels} channels, {seconds:.2} s)")
+                })
+                .collect();
+            writeln!(f, "animations: {}", clips.join(", "))?;
         }
         writeln!(f, "emissive triangles: {}", self.emissive_triangles)?;
         match &self.camera {

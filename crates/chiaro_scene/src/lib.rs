@@ -24,6 +24,7 @@
 //! assert!(info.camera.is_some());
 //! ```
 
+pub mod animation;
 pub mod asset_store;
 pub mod bounds;
 pub mod builtin;
@@ -44,6 +45,7 @@ mod tangents;
 pub mod texture;
 pub mod transform;
 
+pub use animation::{Animations, Time, animate_nodes, pose_at};
 pub use asset_store::{AssetId, AssetStore};
 pub use bevy_ecs::name::Name;
 pub use bounds::Aabb;

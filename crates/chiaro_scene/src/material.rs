@@ -165,7 +165,9 @@ impl Volume {
         if !(self.attenuation_distance.is_finite() && self.attenuation_distance > 0.0) {
             return Vec3::ZERO;
         }
-        let color = self.attenuation_color.clamp(Vec3::splat(f32::MIN_POSITIVE), Vec3::ONE);
+        let color = self
+            .attenuation_color
+            .clamp(Vec3::splat(f32::MIN_POSITIVE), Vec3::ONE);
         -Vec3::new(color.x.ln(), color.y.ln(), color.z.ln()) / self.attenuation_distance
     }
 }

@@ -7,6 +7,7 @@ use bevy_ecs::name::Name;
 use bevy_ecs::prelude::*;
 use glam::Affine3A;
 
+use crate::animation::{AnimationClip, Animations};
 use crate::bounds::Aabb;
 use crate::components::{ActiveCamera, Camera, Light, MeshInstance, Skinned};
 use crate::environment::Environment;
@@ -60,6 +61,7 @@ pub struct SceneBuilder {
     textures: Vec<Texture>,
     nodes: Vec<Node>,
     environment: Option<Environment>,
+    animations: Vec<AnimationClip<NodeIndex>>,
     repairs: Vec<Repair>,
 }
 
@@ -86,6 +88,7 @@ impl SceneBuilder {
             textures: Vec::new(),
             nodes: Vec::new(),
             environment: None,
+            animations: Vec::new(),
             repairs: Vec::new(),
         }
     }
@@ -169,6 +172,20 @@ impl SceneBuilder {
             instance: Some(MeshInstance { mesh, material }),
             ..Node::default()
         })
+    }
+
+    /// Adds an animation clip whose channels target nodes of this builder.
+    pub fn add_animation(&mut self, clip: AnimationClip<NodeIndex>) {
+        assert!(
+            clip.channels.iter().all(|c| c.target < self.nodes.len()),
+            "an animation channel targets a node not in the builder"
+        );
+        self.animations.push(clip);
+    }
+
+    /// The animation clips added so far.
+    pub fn animations(&self) -> &[AnimationClip<NodeIndex>] {
+        &self.animations
     }
 
     /// Sets the environment the scene comes with.
@@ -291,6 +308,14 @@ impl SceneBuilder {
                 .id()
         });
         world.insert_resource(ActiveCamera(camera));
+        if !self.animations.is_empty() {
+            let mut animations = world.get_resource_or_init::<Animations>();
+            for clip in self.animations {
+                animations
+                    .clips
+                    .push(clip.map_targets(|node| entities[node]));
+            }
+        }
         match self.environment {
             Some(env) => world.insert_resource(env),
             None => {

@@ -275,7 +275,8 @@ impl Material {
             sheen_color: p.sheen_color.clamp(Vec3::ZERO, Vec3::ONE),
             sheen_roughness: p.sheen_roughness.clamp(0.0, 1.0),
             eta,
-            transmission_delta: alpha < MIRROR_ALPHA || (eta > 0.0 && (eta - 1.0).abs() < ETA_DELTA_BAND),
+            transmission_delta: alpha < MIRROR_ALPHA
+                || (eta > 0.0 && (eta - 1.0).abs() < ETA_DELTA_BAND),
         }
     }
 

@@ -353,9 +353,12 @@ impl GpuScene {
     }
 }
 
-/// Adds the BVH systems, [`upload_gpu_scene`] after them, and the scene-features system
-/// (whose [`chiaro_scene::SceneFeatures`] the frame specialises its pipelines to) to `schedule`.
+/// Adds the animation system ([`chiaro_scene::animate_nodes`]: the World's glTF animations posed
+/// at its [`chiaro_scene::Time`]), the BVH systems, [`upload_gpu_scene`] after them, and the
+/// scene-features system (whose [`chiaro_scene::SceneFeatures`] the frame specialises its
+/// pipelines to) to `schedule`.
 pub fn add_gpu_scene_systems(schedule: &mut Schedule) {
+    schedule.add_systems(chiaro_scene::animate_nodes.before(chiaro_scene::propagate_transforms));
     chiaro_bvh::add_bvh_systems(schedule);
     schedule.add_systems(chiaro_scene::update_scene_features);
     schedule.add_systems(upload_gpu_scene.after(chiaro_bvh::update_scene_bvh));

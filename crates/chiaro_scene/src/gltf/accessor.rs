@@ -16,6 +16,8 @@ pub(crate) enum Formats {
     Float,
     /// Floats, or normalized unsigned bytes / shorts.
     FloatOrUnorm,
+    /// Floats, or normalized signed or unsigned bytes / shorts (animated rotations).
+    FloatOrNorm,
     /// Unsigned bytes, shorts or ints, not normalized (indices).
     UnsignedInt,
     /// Unsigned bytes or shorts, not normalized (joint indices).
@@ -133,6 +135,7 @@ impl AccessorReader<'_> {
                 Formats::FloatOrUnorm => {
                     t == DataType::F32 || (normalized && matches!(t, DataType::U8 | DataType::U16))
                 }
+                Formats::FloatOrNorm => t == DataType::F32 || (normalized && t != DataType::U32),
                 Formats::UnsignedInt => {
                     !normalized && matches!(t, DataType::U8 | DataType::U16 | DataType::U32)
                 }
@@ -145,6 +148,7 @@ impl AccessorReader<'_> {
                 match formats {
                     Formats::Float => "F32",
                     Formats::FloatOrUnorm => "F32 or normalized U8/U16",
+                    Formats::FloatOrNorm => "F32 or normalized I8/U8/I16/U16",
                     Formats::UnsignedInt => "U8, U16 or U32",
                     Formats::Joints => "U8 or U16",
                 }

@@ -131,7 +131,8 @@ fn split(bytes: &[u8]) -> Result<(&[u8], Option<Vec<u8>>), String> {
 
 /// Drops the animation channels that target no node (KHR_animation_pointer's, which name
 /// their target by a JSON pointer instead), which the gltf crate cannot represent; chiaro
-/// plays no animations, so nothing it reads changes. Returns what was dropped.
+/// plays node animations only, so the rest of the file reads the same. Returns what was
+/// dropped.
 fn drop_pointer_channels(root: &mut serde_json::Value) -> Vec<String> {
     let mut notes = Vec::new();
     let Some(animations) = root.get_mut("animations").and_then(|a| a.as_array_mut()) else {

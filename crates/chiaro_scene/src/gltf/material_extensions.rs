@@ -124,7 +124,9 @@ impl MaterialImporter<'_> {
                 }
                 _ => self.repair(
                     element.into(),
-                    format!("attenuation colour {value} is not three numbers in (0, 1]: white used"),
+                    format!(
+                        "attenuation colour {value} is not three numbers in (0, 1]: white used"
+                    ),
                 ),
             }
         }

@@ -5,11 +5,12 @@
 //! KHR_materials_ior, KHR_materials_specular's, KHR_materials_clearcoat's,
 //! KHR_materials_sheen's and KHR_materials_transmission's factors, KHR_materials_volume,
 //! KHR_texture_transform, KHR_lights_punctual, EXT_mesh_gpu_instancing, cameras, skins (each
-//! skinned mesh instance posed once at load, see `skins`). Every byte range is
+//! skinned mesh instance posed once at load, see `skins`), node animations (`animations`). Every byte range is
 //! checked before it is read; faults are errors naming the file and the element, or repairs
 //! reported with what was dropped and how many (see [`crate::mesh_repair`]).
 
 mod accessor;
+mod animations;
 mod container;
 mod gpu_instancing;
 mod integers;
@@ -94,6 +95,11 @@ pub fn load_gltf_with(path: &Path, options: &LoadOptions) -> Result<SceneBuilder
         options.light_units,
     )
     .import()?;
+    animations::import(
+        &document,
+        &accessor::AccessorReader { buffers: &buffers },
+        &mut builder,
+    );
     if builder.nodes().iter().all(|n| n.instance.is_none()) {
         builder.repair("scene", "has no triangles to render");
     }

@@ -83,16 +83,17 @@ impl Material {
         };
         let (oh, ih) = (wo.dot(h), wi.dot(h));
         let denominator = self.eta * ih + oh;
-        let lobe = ggx::ndf(h, self.alpha) * ggx::visibility(wo, wi, self.alpha) * 4.0
-            * (ih * oh).abs()
-            / (denominator * denominator);
+        let lobe =
+            ggx::ndf(h, self.alpha) * ggx::visibility(wo, wi, self.alpha) * 4.0 * (ih * oh).abs()
+                / (denominator * denominator);
         if !lobe.is_finite() {
             return Vec3::ZERO;
         }
         // Fresnel at the cosine on the thinner side, taken from whichever direction is there
         // (computing it from the other through Snell's law loses precision near grazing).
         let outside = if self.eta < 1.0 { -ih } else { oh };
-        self.fresnel_outside(oh, Some(outside)).transmission * (lobe * self.transmitted_layers(wo, wi) * self.scale)
+        self.fresnel_outside(oh, Some(outside)).transmission
+            * (lobe * self.transmitted_layers(wo, wi) * self.scale)
     }
 
     /// The pdf with which the refraction lobe draws wi (selection included).
@@ -104,8 +105,8 @@ impl Material {
         let denominator = self.eta * ih + oh;
         // D_wo(h) = G1(wo) (wo.h) D(h) / wo.z = 4 (wo.h) reflected_vndf_pdf.
         let visible = 4.0 * oh * ggx::reflected_vndf_pdf(wo, h, self.alpha);
-        let pdf = p.transmission * visible * self.eta * self.eta * ih.abs()
-            / (denominator * denominator);
+        let pdf =
+            p.transmission * visible * self.eta * self.eta * ih.abs() / (denominator * denominator);
         if pdf.is_finite() { pdf } else { 0.0 }
     }
 

@@ -349,7 +349,10 @@ fn sample_agrees_with_eval_and_pdf() {
             if eta > 0.0 {
                 let sin_o = (1.0 - wo.z * wo.z).max(0.0).sqrt();
                 let sin_i = (1.0 - s.wi.z * s.wi.z).max(0.0).sqrt();
-                assert!((sin_o - eta * sin_i).abs() < 1e-4, "Snell: {p:?} {wo} {s:?}");
+                assert!(
+                    (sin_o - eta * sin_i).abs() < 1e-4,
+                    "Snell: {p:?} {wo} {s:?}"
+                );
                 assert!(s.wi.x * wo.x <= 0.0 && s.wi.y * wo.y <= 0.0);
             } else {
                 assert!(s.wi == -wo, "{p:?} {wo} {s:?}");
@@ -357,10 +360,13 @@ fn sample_agrees_with_eval_and_pdf() {
             assert!(m.transmission_delta, "{p:?}");
             let probabilities = m.lobe_probabilities(wo.z);
             assert_eq!(s.pdf, probabilities.transmission);
-            let (wi_z, radiance) = if eta > 0.0 { (-s.wi.z, 1.0 / (eta * eta)) } else { (wo.z, 1.0) };
+            let (wi_z, radiance) = if eta > 0.0 {
+                (-s.wi.z, 1.0 / (eta * eta))
+            } else {
+                (wo.z, 1.0)
+            };
             let expected = m.fresnel(wo.z).transmission
-                * (m.base_weight(wo.z) * m.sheen_scaling(wo.z, wi_z) * m.scale * radiance
-                    / s.pdf);
+                * (m.base_weight(wo.z) * m.sheen_scaling(wo.z, wi_z) * m.scale * radiance / s.pdf);
             assert!(
                 (s.weight - expected).abs().max_element() < 1e-5 * expected.max_element().max(1.0)
             );
