@@ -128,7 +128,12 @@ fn world_positions(world: &mut World, name: &str) -> Vec<Vec3> {
 
 /// Positions skinned by hand: world(joint) * inverseBind(joint) * position, blended by weight.
 fn skinned_by_hand(inverse_binds: &[Mat4]) -> Vec<Vec3> {
-    let joints = [Mat4::IDENTITY, bent()];
+    skinned_by_hand_with(inverse_binds, bent())
+}
+
+/// The same with joint 1 at `joint_1` (its world matrix).
+fn skinned_by_hand_with(inverse_binds: &[Mat4], joint_1: Mat4) -> Vec<Vec3> {
+    let joints = [Mat4::IDENTITY, joint_1];
     POSITIONS
         .iter()
         .zip(INFLUENCES)
@@ -177,6 +182,54 @@ fn a_two_joint_skin_poses_the_mesh_as_skinned_by_hand() {
         text.contains("skinned: 1 instance posed at load by 1 skin (joints: 2)"),
         "{text}"
     );
+}
+
+/// The skin follows its joints: turning the bent joint the other way (an edit of its
+/// Transform, as an animation makes) re-poses the mesh as skinning by hand does, through the
+/// skinning system; an edit elsewhere leaves the mesh alone.
+#[test]
+fn a_skinned_mesh_follows_its_joints_as_they_move() {
+    let (joints, weights) = influences();
+    let path = write(
+        "skin",
+        "follows.gltf",
+        &skinned_gltf(&joints, &weights, &inverse_binds()),
+    );
+    let (mut world, result) = load(&path);
+    result.unwrap();
+    let mut schedule = Schedule::default();
+    schedule.add_systems((propagate_transforms, chiaro::scene::skinning::skin_meshes).chain());
+    schedule.run(&mut world);
+    // Nothing moved: the mesh store is not even touched.
+    world.clear_trackers();
+    schedule.run(&mut world);
+    assert!(!world.is_resource_changed::<Meshes>());
+    let before = world_positions(&mut world, "skinned");
+    let turn_back = Quat::from_rotation_z(-std::f32::consts::FRAC_PI_2);
+    let mut joint = world.query::<(&Name, &mut chiaro::scene::Transform)>();
+    for (name, mut t) in joint.iter_mut(&mut world) {
+        if name.as_str() == "bent joint" {
+            t.rotation = turn_back;
+        }
+    }
+    world.clear_trackers();
+    schedule.run(&mut world);
+    assert!(world.is_resource_changed::<Meshes>());
+    let posed = world_positions(&mut world, "skinned");
+    let expected = skinned_by_hand_with(
+        &inverse_binds(),
+        Mat4::from_rotation_translation(turn_back, Vec3::Y),
+    );
+    // By hand: the top corners turned the other way about (0, 1, 0), to x = +1.
+    assert!(expected[2].abs_diff_eq(Vec3::new(1.0, 1.0, 0.0), 1e-6));
+    assert!(expected[3].abs_diff_eq(Vec3::new(1.0, 0.0, 0.0), 1e-6));
+    for (v, (got, want)) in posed.iter().zip(&expected).enumerate() {
+        assert!(
+            got.abs_diff_eq(*want, 1e-5),
+            "vertex {v}: {got} where {want}"
+        );
+    }
+    assert_ne!(posed, before);
 }
 
 #[test]

@@ -19,8 +19,9 @@ pub struct MeshInstance {
     pub material: MaterialId,
 }
 
-/// Marks a mesh instance posed by a glTF skin at load: its mesh is its own, the vertices moved
-/// once by the joints (the pose the file's node transforms describe; no animation is played).
+/// Marks a mesh instance posed by a glTF skin: its mesh is its own, the vertices moved by the
+/// joints (at load, the pose the file's node transforms describe; afterwards, with a
+/// [`crate::skinning::SkinBinding`], wherever the joints move).
 #[derive(Component, Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Skinned {
     /// The skin's index in its glTF file.

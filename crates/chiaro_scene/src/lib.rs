@@ -41,6 +41,7 @@ pub mod memory;
 pub mod mesh;
 pub mod mesh_repair;
 pub mod scene_builder;
+pub mod skinning;
 mod tangents;
 pub mod texture;
 pub mod transform;

@@ -16,6 +16,7 @@ use crate::framing::frame_bounds;
 use crate::material::{MaterialId, Materials};
 use crate::mesh::{Mesh, MeshId, Meshes};
 use crate::mesh_repair::{MeshData, MeshFault};
+use crate::skinning::SkinBinding;
 use crate::texture::{TextureId, Textures};
 use crate::transform::Transform;
 use crate::{Material, Texture};
@@ -50,6 +51,8 @@ pub struct Node {
     pub source_node: Option<u32>,
     /// Set when its mesh instance was posed by a skin at load.
     pub skinned: Option<Skinned>,
+    /// Binds its skinned mesh instance to its joints' nodes, so that it follows them.
+    pub skin_binding: Option<SkinBinding<NodeIndex>>,
 }
 
 /// A validated scene waiting to be spawned.
@@ -174,6 +177,15 @@ impl SceneBuilder {
         })
     }
 
+    /// Binds node `node`'s skinned mesh instance to its joints, nodes of this builder.
+    pub fn set_skin_binding(&mut self, node: NodeIndex, binding: SkinBinding<NodeIndex>) {
+        assert!(
+            binding.joints.iter().all(|&j| j < self.nodes.len()),
+            "a skin joint is not a node of the builder"
+        );
+        self.nodes[node].skin_binding = Some(binding);
+    }
+
     /// Adds an animation clip whose channels target nodes of this builder.
     pub fn add_animation(&mut self, clip: AnimationClip<NodeIndex>) {
         assert!(
@@ -272,7 +284,11 @@ impl SceneBuilder {
 
         let mut entities: Vec<Entity> = Vec::with_capacity(self.nodes.len());
         let mut camera = None;
+        let mut bindings = Vec::new();
         for node in self.nodes {
+            if let Some(binding) = node.skin_binding {
+                bindings.push((entities.len(), binding));
+            }
             let mut e = world.spawn(node.transform);
             if let Some(name) = node.name {
                 e.insert(Name::new(name));
@@ -300,6 +316,12 @@ impl SceneBuilder {
                 e.insert(skinned);
             }
             entities.push(e.id());
+        }
+        // Joints may come after the instance they pose: bound once every entity exists.
+        for (node, binding) in bindings {
+            world
+                .entity_mut(entities[node])
+                .insert(binding.map_joints(|&j| entities[j]));
         }
         let camera = camera.unwrap_or_else(|| {
             let (transform, camera) = frame_bounds(&bounds);

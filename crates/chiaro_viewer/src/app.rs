@@ -12,7 +12,7 @@ use chiaro_gpu::gpu_scene::GpuScene;
 use chiaro_gpu::timing::PassTimes;
 use chiaro_gpu::{FrameSettings, RenderSettings};
 use chiaro_scene::transform::propagate_transforms;
-use chiaro_scene::{ActiveCamera, GlobalTransform, SceneInfo, Transform};
+use chiaro_scene::{ActiveCamera, Animations, GlobalTransform, SceneInfo, Time, Transform};
 use glam::{Affine3A, Vec2, Vec3};
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
@@ -216,6 +216,17 @@ impl App {
         }
     }
 
+    /// Plays the scene's glTF animations: their time advances by the frame's `dt` seconds.
+    fn play_animations(&mut self, dt: f32) {
+        let animated = self
+            .world
+            .get_resource::<Animations>()
+            .is_some_and(|a| !a.clips.is_empty());
+        if animated {
+            self.world.get_resource_or_init::<Time>().seconds += f64::from(dt);
+        }
+    }
+
     fn redraw(&mut self, event_loop: &ActiveEventLoop) {
         let now = Instant::now();
         let elapsed = now.duration_since(self.last_frame).as_secs_f32();
@@ -231,6 +242,7 @@ impl App {
             None => (self.keys, elapsed.min(MAX_DT)),
         };
         self.move_camera(&keys, dt);
+        self.play_animations(dt);
         if let Some(at) = self.click.take() {
             self.pick_at(at);
         }

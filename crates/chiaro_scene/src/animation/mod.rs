@@ -290,12 +290,20 @@ pub fn animate_nodes(
     }
 }
 
-/// Sets the World's [`Time`] to `seconds` and poses its animations there at once (for a
-/// renderer that does not run [`animate_nodes`] in a schedule, such as the CPU reference).
+/// Sets the World's [`Time`] to `seconds` and poses its animations there at once, skinned
+/// meshes included (for a renderer that does not run [`animate_nodes`] in a schedule, such as
+/// the CPU reference).
 pub fn pose_at(world: &mut World, seconds: f64) {
     world.insert_resource(Time { seconds });
     let mut schedule = Schedule::default();
-    schedule.add_systems(animate_nodes);
+    schedule.add_systems(
+        (
+            animate_nodes,
+            crate::propagate_transforms,
+            crate::skinning::skin_meshes,
+        )
+            .chain(),
+    );
     schedule.run(world);
 }
 

@@ -65,14 +65,9 @@ pub(crate) fn import(
             node_of.entry(source).or_insert(index);
         }
     }
-    let joints: std::collections::HashSet<usize> = document
-        .skins()
-        .flat_map(|s| s.joints().map(|j| j.index()).collect::<Vec<_>>())
-        .collect();
     for animation in document.animations() {
         let name = element("animation", animation.index(), animation.name());
         let mut channels = Vec::new();
-        let mut drives_joints = false;
         for (c, channel) in animation.channels().enumerate() {
             let at = format!("{name}, channel {c}");
             let node = channel.target().node().index();
@@ -93,25 +88,16 @@ pub(crate) fn import(
                 continue;
             };
             match keyframes(reader, &channel, property) {
-                Ok(keyframes) => {
-                    drives_joints |= joints.contains(&node);
-                    channels.push(Channel {
-                        target,
-                        property,
-                        keyframes,
-                    });
-                }
+                Ok(keyframes) => channels.push(Channel {
+                    target,
+                    property,
+                    keyframes,
+                }),
                 Err(why) => builder.repair(
                     format!("{at}, sampler {}", channel.sampler().index()),
                     format!("{why}: channel left out"),
                 ),
             }
-        }
-        if drives_joints {
-            builder.repair(
-                name.clone(),
-                "drives the joints of a skin: skinned meshes keep the pose they had at load",
-            );
         }
         if !channels.is_empty() {
             builder.add_animation(AnimationClip {

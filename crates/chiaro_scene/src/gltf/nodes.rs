@@ -3,6 +3,7 @@
 //! transform, mesh primitives, light and camera.
 
 use std::collections::HashMap;
+use std::sync::Arc;
 
 use glam::{Mat4, Quat, Vec3};
 
@@ -16,6 +17,7 @@ use crate::load::LightUnits;
 use crate::material::{Material, MaterialId};
 use crate::mesh::MeshId;
 use crate::scene_builder::{Node, NodeIndex, SceneBuilder};
+use crate::skinning::{BindPose, SkinBinding};
 use crate::transform::{MAX_HIERARCHY_DEPTH, Transform};
 
 /// Smallest scale magnitude that is not treated as singular.
@@ -275,6 +277,17 @@ pub(crate) struct NodeImporter<'a> {
     default_material: Option<MaterialId>,
     /// Every glTF node's world matrix, for the joints of skins (empty without skins).
     worlds: Vec<Mat4>,
+    /// Skinned instances waiting for their joints' nodes ([`NodeImporter::bind_skins`]).
+    pending_skins: Vec<PendingSkin>,
+}
+
+/// A skinned instance's node and what binds it to its skin's joints (glTF node indices).
+struct PendingSkin {
+    node: NodeIndex,
+    skin: usize,
+    joints: Vec<usize>,
+    inverse_binds: Arc<[Mat4]>,
+    bind_pose: Arc<BindPose>,
 }
 
 impl<'a> NodeImporter<'a> {
@@ -294,6 +307,7 @@ impl<'a> NodeImporter<'a> {
             meshes: HashMap::new(),
             default_material: None,
             worlds: Vec::new(),
+            pending_skins: Vec::new(),
         }
     }
 
@@ -362,6 +376,7 @@ impl<'a> NodeImporter<'a> {
                 );
             }
         }
+        self.bind_skins();
         Ok(())
     }
 
@@ -417,11 +432,12 @@ impl<'a> NodeImporter<'a> {
             }
             _ => None,
         };
-        let instances = match node.mesh() {
-            Some(mesh) => self.instances(&mesh, pose.as_ref())?,
-            None => Vec::new(),
-        };
-        let skinned = pose.map(|p| Skinned {
+        let (instances, bind_poses): (Vec<MeshInstance>, Vec<Option<Arc<BindPose>>>) =
+            match node.mesh() {
+                Some(mesh) => self.instances(&mesh, pose.as_ref())?.into_iter().unzip(),
+                None => (Vec::new(), Vec::new()),
+            };
+        let skinned = pose.as_ref().map(|p| Skinned {
             skin: p.skin as u32,
             joints: p.matrices.len() as u32,
         });
@@ -437,6 +453,7 @@ impl<'a> NodeImporter<'a> {
             camera,
             source_node: Some(node.index() as u32),
             skinned,
+            skin_binding: None,
         });
         if let Some((transforms, dropped)) = gpu_instances {
             if dropped > 0 {
@@ -459,31 +476,82 @@ impl<'a> NodeImporter<'a> {
                 self.add_primitive_children(&name, holder, &instances, skinned);
             }
         } else {
-            self.add_primitive_children(&name, added, &instances, skinned);
+            let carriers = self.add_primitive_children(&name, added, &instances, skinned);
+            // (GPU instances share one mesh, which one skin binding per instance cannot pose:
+            // those keep their load pose.)
+            if let Some(pose) = &pose {
+                for (node, bind_pose) in carriers.into_iter().zip(bind_poses) {
+                    if let Some(bind_pose) = bind_pose {
+                        self.pending_skins.push(PendingSkin {
+                            node,
+                            skin: pose.skin,
+                            joints: pose.joints.clone(),
+                            inverse_binds: pose.inverse_binds.clone().into(),
+                            bind_pose,
+                        });
+                    }
+                }
+            }
         }
         Ok(Some(added))
     }
 
+    /// Binds each skinned instance to its joints' nodes, so that it follows them as they move;
+    /// a skin with a joint outside the imported scene keeps its load pose, with a repair line.
+    fn bind_skins(&mut self) {
+        let mut node_of: HashMap<usize, NodeIndex> = HashMap::new();
+        for (index, node) in self.builder.nodes().iter().enumerate() {
+            if let Some(source) = node.source_node {
+                node_of.entry(source as usize).or_insert(index);
+            }
+        }
+        for pending in std::mem::take(&mut self.pending_skins) {
+            let joints: Option<Vec<NodeIndex>> = pending
+                .joints
+                .iter()
+                .map(|j| node_of.get(j).copied())
+                .collect();
+            match joints {
+                Some(joints) => self.builder.set_skin_binding(
+                    pending.node,
+                    SkinBinding {
+                        joints,
+                        inverse_binds: pending.inverse_binds,
+                        bind_pose: pending.bind_pose,
+                    },
+                ),
+                None => self.builder.repair(
+                    element("skin", pending.skin, None),
+                    "has a joint outside the imported scene: its meshes keep their load pose",
+                ),
+            }
+        }
+    }
+
     /// With more than one primitive, each becomes a child of `holder` (one is carried by the
     /// holder itself).
+    /// Returns the node carrying each instance.
     fn add_primitive_children(
         &mut self,
         name: &str,
         holder: NodeIndex,
         instances: &[MeshInstance],
         skinned: Option<Skinned>,
-    ) {
+    ) -> Vec<NodeIndex> {
+        let mut carriers = vec![holder; instances.len().min(1)];
         if instances.len() > 1 {
+            carriers.clear();
             for (k, instance) in instances.iter().enumerate() {
-                self.builder.add_node(Node {
+                carriers.push(self.builder.add_node(Node {
                     name: Some(format!("{name} primitive {k}")),
                     parent: Some(holder),
                     instance: Some(*instance),
                     skinned,
                     ..Node::default()
-                });
+                }));
             }
         }
+        carriers
     }
 
     /// One instance per drawable primitive of the mesh, converting each primitive once; with
@@ -492,22 +560,23 @@ impl<'a> NodeImporter<'a> {
         &mut self,
         mesh: &gltf::Mesh,
         pose: Option<&Pose>,
-    ) -> Result<Vec<MeshInstance>, SceneError> {
+    ) -> Result<Vec<(MeshInstance, Option<Arc<BindPose>>)>, SceneError> {
         let mut out = Vec::new();
         for primitive in mesh.primitives() {
             let key = (mesh.index(), primitive.index());
             let material = self.material(&primitive);
-            let id = match (pose, self.meshes.get(&key)) {
+            let converted = match (pose, self.meshes.get(&key)) {
                 (Some(pose), _) => self.convert(mesh, &primitive, material, Some(pose))?,
-                (None, Some(id)) => *id,
+                (None, Some(id)) => id.map(|id| (id, None)),
                 (None, None) => {
-                    let id = self.convert(mesh, &primitive, material, None)?;
-                    self.meshes.insert(key, id);
-                    id
+                    let converted = self.convert(mesh, &primitive, material, None)?;
+                    self.meshes
+                        .insert(key, converted.as_ref().map(|(id, _)| *id));
+                    converted
                 }
             };
-            if let Some(mesh) = id {
-                out.push(MeshInstance { mesh, material });
+            if let Some((mesh, bind_pose)) = converted {
+                out.push((MeshInstance { mesh, material }, bind_pose));
             }
         }
         Ok(out)
@@ -528,7 +597,7 @@ impl<'a> NodeImporter<'a> {
         primitive: &gltf::Primitive,
         material: MaterialId,
         pose: Option<&Pose>,
-    ) -> Result<Option<MeshId>, SceneError> {
+    ) -> Result<Option<(MeshId, Option<Arc<BindPose>>)>, SceneError> {
         let element = format!(
             "{} primitive {}",
             element("mesh", mesh.index(), mesh.name()),
@@ -542,14 +611,27 @@ impl<'a> NodeImporter<'a> {
         match convert_primitive(&self.reader, primitive, tangent_uv_set) {
             Ok(Converted::Triangles(mut data)) => {
                 let name = mesh.name().map_or_else(|| element.clone(), str::to_owned);
+                let mut bind_pose = None;
                 if let Some(pose) = pose {
-                    let repairs = skins::pose_primitive(&self.reader, primitive, pose, &mut data)
-                        .map_err(|why| self.error(element.clone(), Fault::Skin(why)))?;
+                    let bind = data.clone();
+                    let (influences, repairs) =
+                        skins::pose_primitive(&self.reader, primitive, pose, &mut data)
+                            .map_err(|why| self.error(element.clone(), Fault::Skin(why)))?;
                     for repair in repairs {
                         self.builder.repair(element.clone(), repair);
                     }
+                    bind_pose = influences.map(|influences| {
+                        Arc::new(BindPose {
+                            name: name.clone(),
+                            data: bind,
+                            influences,
+                        })
+                    });
                 }
-                self.builder.add_mesh(&element, &name, data)
+                Ok(self
+                    .builder
+                    .add_mesh(&element, &name, data)?
+                    .map(|id| (id, bind_pose)))
             }
             Ok(Converted::Skipped(why)) => {
                 self.builder.repair(element, format!("skipped: {why}"));

@@ -2,15 +2,18 @@
 //! has a skin gets a mesh of its own: each vertex moved by the weighted sum of its joints'
 //! matrices, `inverse(world of the mesh node) * world(joint) * inverseBindMatrix(joint)`, so
 //! that, drawn under the mesh node's world transform, it lands where the joints put it: the
-//! mesh node's own transform is thereby ignored, as the specification requires. The pose is the
-//! one the nodes' transforms describe (no animation is played). Every joint index, weight,
-//! accessor count and matrix is checked; a fault is an error naming the skin or the primitive.
+//! mesh node's own transform is thereby ignored, as the specification requires. The pose at
+//! load is the one the nodes' transforms describe; the bind pose is kept, so that an instance
+//! whose joints are all in the scene is re-posed as they move ([`crate::skinning`]). Every joint
+//! index, weight, accessor count and matrix is checked; a fault is an error naming the skin or
+//! the primitive.
 
-use glam::{Mat3, Mat4, Quat, Vec3, Vec4};
+use glam::{Mat4, Quat, Vec3};
 use gltf::mesh::Semantic;
 
 use crate::gltf::accessor::{AccessorReader, Formats};
 use crate::mesh_repair::MeshData;
+use crate::skinning::{Influences, MAX_INFLUENCES, skin_mesh_data};
 
 /// JOINTS_n / WEIGHTS_n sets read: 0 and 1 (up to eight influences a vertex).
 const INFLUENCE_SETS: u32 = 2;
@@ -74,6 +77,10 @@ pub(crate) struct Pose {
     pub skin: usize,
     /// `inverse(mesh node world) * world(joint) * inverseBindMatrix`, one per joint.
     pub matrices: Vec<Mat4>,
+    /// The joints' glTF node indices.
+    pub joints: Vec<usize>,
+    /// Each joint's inverse bind matrix.
+    pub inverse_binds: Vec<Mat4>,
 }
 
 /// The joint matrices of `skin` for a mesh node whose world matrix is `mesh_world`; `worlds`
@@ -135,6 +142,8 @@ pub(crate) fn pose(
     Ok(Pose {
         skin: skin.index(),
         matrices,
+        joints,
+        inverse_binds,
     })
 }
 
@@ -182,42 +191,31 @@ fn influences(
     Ok(out)
 }
 
-/// The matrix that takes normals through `m`'s linear part: its cofactor matrix (the inverse
-/// transpose times the determinant, finite even where `m` is singular), negated for a mirror
-/// so that normals keep their side.
-fn normal_matrix(m: &Mat3) -> Mat3 {
-    let cofactor = Mat3::from_cols(
-        m.y_axis.cross(m.z_axis),
-        m.z_axis.cross(m.x_axis),
-        m.x_axis.cross(m.y_axis),
-    );
-    if m.determinant() < 0.0 {
-        -cofactor
-    } else {
-        cofactor
-    }
-}
-
-/// Poses `data` (read from `primitive`) by `pose`: positions, normals and tangents (a mirror
-/// flips the tangent's bitangent sign). Returns the repair lines: a primitive without JOINTS_0
-/// and WEIGHTS_0 is left as it is, and weights that do not sum to 1 are normalised.
+/// Poses `data` (read from `primitive`) by `pose`: positions, normals and tangents. Returns
+/// the bind pose (the data before posing, with its normalised influences) and the repair lines:
+/// a primitive without JOINTS_0 and WEIGHTS_0 is left as it is (no bind pose), and weights
+/// that do not sum to 1 are normalised.
 pub(crate) fn pose_primitive(
     reader: &AccessorReader,
     primitive: &gltf::Primitive,
     pose: &Pose,
     data: &mut MeshData,
-) -> Result<Vec<String>, String> {
+) -> Result<(Option<Influences>, Vec<String>), String> {
     if primitive.get(&Semantic::Joints(0)).is_none()
         && primitive.get(&Semantic::Weights(0)).is_none()
     {
-        return Ok(vec![format!(
-            "has no JOINTS_0 and WEIGHTS_0 for skin {}: drawn as stored",
-            pose.skin
-        )]);
+        return Ok((
+            None,
+            vec![format!(
+                "has no JOINTS_0 and WEIGHTS_0 for skin {}: drawn as stored",
+                pose.skin
+            )],
+        ));
     }
-    let influences = influences(reader, primitive, data.positions.len())?;
+    let raw = influences(reader, primitive, data.positions.len())?;
     let mut renormalised = 0usize;
-    for (v, vertex) in influences.iter().enumerate() {
+    let mut out = Influences::default();
+    for (v, vertex) in raw.iter().enumerate() {
         let sum: f64 = vertex.iter().map(|(_, w)| w).sum();
         if sum <= 0.0 {
             return Err(format!(
@@ -227,63 +225,32 @@ pub(crate) fn pose_primitive(
         if (sum - 1.0).abs() > WEIGHT_SUM_TOLERANCE {
             renormalised += 1;
         }
-        let mut m = Mat4::ZERO;
-        for &(joint, weight) in vertex {
+        let mut joints = [0u16; MAX_INFLUENCES];
+        let mut weights = [0f32; MAX_INFLUENCES];
+        for (k, &(joint, weight)) in vertex.iter().enumerate().take(MAX_INFLUENCES) {
             if weight == 0.0 {
                 continue;
             }
-            let matrix = pose.matrices.get(joint).ok_or_else(|| {
-                format!(
+            if joint >= pose.matrices.len() {
+                return Err(format!(
                     "vertex {v} names joint {joint}, but skin {} has {} joints",
                     pose.skin,
                     pose.matrices.len()
-                )
-            })?;
-            m += *matrix * (weight / sum) as f32;
+                ));
+            }
+            joints[k] = joint as u16;
+            weights[k] = (weight / sum) as f32;
         }
-        let linear = Mat3::from_mat4(m);
-        data.positions[v] = m.transform_point3(data.positions[v]);
-        if let Some(normals) = &mut data.normals
-            && let Some(n) = normals.get_mut(v)
-        {
-            *n = (normal_matrix(&linear) * *n).normalize_or_zero();
-        }
-        if let Some(tangents) = &mut data.tangents
-            && let Some(t) = tangents.get_mut(v)
-        {
-            let xyz = (linear * t.truncate()).normalize_or_zero();
-            let sign = if linear.determinant() < 0.0 {
-                -t.w
-            } else {
-                t.w
-            };
-            *t = Vec4::from((xyz, sign));
-        }
+        out.joints.push(joints);
+        out.weights.push(weights);
     }
-    Ok(if renormalised > 0 {
+    skin_mesh_data(data, &out, &pose.matrices)?;
+    let repairs = if renormalised > 0 {
         vec![format!(
             "the weights of {renormalised} vertices did not sum to 1: normalised"
         )]
     } else {
         Vec::new()
-    })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn normals_keep_their_side_through_scales_and_mirrors() {
-        let squash = Mat3::from_diagonal(Vec3::new(2.0, 1.0, 1.0));
-        let n = (normal_matrix(&squash) * Vec3::new(1.0, 1.0, 0.0)).normalize();
-        // The plane x + y = 0 stretched along x has the normal (1, 2, 0) / sqrt(5).
-        assert!(
-            n.abs_diff_eq(Vec3::new(1.0, 2.0, 0.0).normalize(), 1e-6),
-            "{n}"
-        );
-        let mirror = Mat3::from_diagonal(Vec3::new(-1.0, 1.0, 1.0));
-        assert_eq!(normal_matrix(&mirror) * Vec3::Z, Vec3::Z);
-        assert!(normal_matrix(&Mat3::ZERO).is_finite());
-    }
+    };
+    Ok((Some(out), repairs))
 }
