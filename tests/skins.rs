@@ -198,7 +198,13 @@ fn a_skinned_mesh_follows_its_joints_as_they_move() {
     let (mut world, result) = load(&path);
     result.unwrap();
     let mut schedule = Schedule::default();
-    schedule.add_systems((propagate_transforms, chiaro::scene::skinning::skin_meshes).chain());
+    schedule.add_systems(
+        (
+            propagate_transforms,
+            chiaro::scene::deformation::deform_meshes,
+        )
+            .chain(),
+    );
     schedule.run(&mut world);
     // Nothing moved: the mesh store is not even touched.
     world.clear_trackers();

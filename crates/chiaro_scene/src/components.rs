@@ -21,7 +21,7 @@ pub struct MeshInstance {
 
 /// Marks a mesh instance posed by a glTF skin: its mesh is its own, the vertices moved by the
 /// joints (at load, the pose the file's node transforms describe; afterwards, with a
-/// [`crate::skinning::SkinBinding`], wherever the joints move).
+/// [`crate::deformation::DeformedMesh`], wherever the joints move).
 #[derive(Component, Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Skinned {
     /// The skin's index in its glTF file.

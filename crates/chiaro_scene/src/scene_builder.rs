@@ -10,13 +10,14 @@ use glam::Affine3A;
 use crate::animation::{AnimationClip, Animations};
 use crate::bounds::Aabb;
 use crate::components::{ActiveCamera, Camera, Light, MeshInstance, Skinned};
+use crate::deformation::DeformedMesh;
 use crate::environment::Environment;
 use crate::error::{ImportReport, Repair, SceneError};
 use crate::framing::frame_bounds;
 use crate::material::{MaterialId, Materials};
 use crate::mesh::{Mesh, MeshId, Meshes};
 use crate::mesh_repair::{MeshData, MeshFault};
-use crate::skinning::SkinBinding;
+use crate::morph::MorphWeights;
 use crate::texture::{TextureId, Textures};
 use crate::transform::Transform;
 use crate::{Material, Texture};
@@ -51,8 +52,10 @@ pub struct Node {
     pub source_node: Option<u32>,
     /// Set when its mesh instance was posed by a skin at load.
     pub skinned: Option<Skinned>,
-    /// Binds its skinned mesh instance to its joints' nodes, so that it follows them.
-    pub skin_binding: Option<SkinBinding<NodeIndex>>,
+    /// Its morph target weights (its mesh has morph targets): a [`MorphWeights`] component.
+    pub morph_weights: Option<Vec<f32>>,
+    /// What its deformable mesh instance follows: its skin's joints, its weights' node.
+    pub deformation: Option<DeformedMesh<NodeIndex>>,
 }
 
 /// A validated scene waiting to be spawned.
@@ -177,13 +180,16 @@ impl SceneBuilder {
         })
     }
 
-    /// Binds node `node`'s skinned mesh instance to its joints, nodes of this builder.
-    pub fn set_skin_binding(&mut self, node: NodeIndex, binding: SkinBinding<NodeIndex>) {
+    /// Makes node `node`'s mesh instance follow `deformation`, whose nodes are this builder's.
+    pub fn set_deformation(&mut self, node: NodeIndex, deformation: DeformedMesh<NodeIndex>) {
+        let joints = deformation.skin.iter().flat_map(|s| s.joints.iter());
         assert!(
-            binding.joints.iter().all(|&j| j < self.nodes.len()),
-            "a skin joint is not a node of the builder"
+            joints
+                .chain(&deformation.weights_from)
+                .all(|&j| j < self.nodes.len()),
+            "a deformation names a node not in the builder"
         );
-        self.nodes[node].skin_binding = Some(binding);
+        self.nodes[node].deformation = Some(deformation);
     }
 
     /// Adds an animation clip whose channels target nodes of this builder.
@@ -284,10 +290,10 @@ impl SceneBuilder {
 
         let mut entities: Vec<Entity> = Vec::with_capacity(self.nodes.len());
         let mut camera = None;
-        let mut bindings = Vec::new();
+        let mut deformations = Vec::new();
         for node in self.nodes {
-            if let Some(binding) = node.skin_binding {
-                bindings.push((entities.len(), binding));
+            if let Some(deformation) = node.deformation {
+                deformations.push((entities.len(), deformation));
             }
             let mut e = world.spawn(node.transform);
             if let Some(name) = node.name {
@@ -315,13 +321,16 @@ impl SceneBuilder {
             if let Some(skinned) = node.skinned {
                 e.insert(skinned);
             }
+            if let Some(weights) = node.morph_weights {
+                e.insert(MorphWeights(weights));
+            }
             entities.push(e.id());
         }
         // Joints may come after the instance they pose: bound once every entity exists.
-        for (node, binding) in bindings {
+        for (node, deformation) in deformations {
             world
                 .entity_mut(entities[node])
-                .insert(binding.map_joints(|&j| entities[j]));
+                .insert(deformation.map_nodes(|&j| entities[j]));
         }
         let camera = camera.unwrap_or_else(|| {
             let (transform, camera) = frame_bounds(&bounds);

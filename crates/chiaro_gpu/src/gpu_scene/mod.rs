@@ -355,14 +355,14 @@ impl GpuScene {
 
 /// Adds the animation system ([`chiaro_scene::animate_nodes`]: the World's glTF animations posed
 /// at its [`chiaro_scene::Time`]), the BVH systems with skinning between the transforms and the
-/// BVH ([`chiaro_scene::skinning::skin_meshes`]), [`upload_gpu_scene`] after them, and the
+/// BVH ([`chiaro_scene::deformation::deform_meshes`]), [`upload_gpu_scene`] after them, and the
 /// scene-features system (whose [`chiaro_scene::SceneFeatures`] the frame specialises its
 /// pipelines to) to `schedule`.
 pub fn add_gpu_scene_systems(schedule: &mut Schedule) {
     schedule.add_systems(chiaro_scene::animate_nodes.before(chiaro_scene::propagate_transforms));
     chiaro_bvh::add_bvh_systems(schedule);
     schedule.add_systems(
-        chiaro_scene::skinning::skin_meshes
+        chiaro_scene::deformation::deform_meshes
             .after(chiaro_scene::propagate_transforms)
             .before(chiaro_bvh::update_scene_bvh),
     );

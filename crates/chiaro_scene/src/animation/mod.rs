@@ -13,6 +13,7 @@
 use bevy_ecs::prelude::*;
 use glam::{Quat, Vec4};
 
+use crate::morph::MorphWeights;
 use crate::transform::Transform;
 
 /// The scene's time, in seconds: [`animate_nodes`] poses the animations there.
@@ -42,6 +43,8 @@ pub enum Property {
     Rotation,
     /// The scale (x, y, z).
     Scale,
+    /// The weight of one morph target (in x) of the node's [`MorphWeights`].
+    MorphWeight(usize),
 }
 
 /// A sampler's keys: times in seconds, strictly increasing, and one value per key (three per
@@ -245,7 +248,7 @@ impl Animations {
     }
 }
 
-/// Applies channel `channel` at its clip's local time `t` to `transform`.
+/// Applies channel `channel` (a transform's) at its clip's local time `t` to `transform`.
 fn apply(channel: &Channel<Entity>, t: f32, transform: &mut Transform) {
     let rotation = channel.property == Property::Rotation;
     let value = channel.keyframes.sample(t, rotation);
@@ -253,6 +256,7 @@ fn apply(channel: &Channel<Entity>, t: f32, transform: &mut Transform) {
         Property::Translation => transform.translation = value.truncate(),
         Property::Rotation => transform.rotation = Quat::from_vec4(value),
         Property::Scale => transform.scale = value.truncate(),
+        Property::MorphWeight(_) => {}
     }
 }
 
@@ -263,6 +267,7 @@ pub fn animate_nodes(
     time: Option<Res<Time>>,
     animations: Option<Res<Animations>>,
     mut transforms: Query<&mut Transform>,
+    mut weights: Query<&mut MorphWeights>,
 ) {
     let (Some(time), Some(animations)) = (time, animations) else {
         return;
@@ -273,6 +278,16 @@ pub fn animate_nodes(
     for clip in &animations.clips {
         let t = clip.local_time(time.seconds);
         for channel in &clip.channels {
+            if let Property::MorphWeight(k) = channel.property {
+                let value = channel.keyframes.sample(t, false).x;
+                if let Ok(mut w) = weights.get_mut(channel.target)
+                    && w.0.get(k).is_some_and(|&old| old != value)
+                    && value.is_finite()
+                {
+                    w.0[k] = value;
+                }
+                continue;
+            }
             let Ok(mut transform) = transforms.get_mut(channel.target) else {
                 continue;
             };
@@ -290,8 +305,8 @@ pub fn animate_nodes(
     }
 }
 
-/// Sets the World's [`Time`] to `seconds` and poses its animations there at once, skinned
-/// meshes included (for a renderer that does not run [`animate_nodes`] in a schedule, such as
+/// Sets the World's [`Time`] to `seconds` and poses its animations there at once, skinned and
+/// morphed meshes included (for a renderer that does not run [`animate_nodes`] in a schedule, such as
 /// the CPU reference).
 pub fn pose_at(world: &mut World, seconds: f64) {
     world.insert_resource(Time { seconds });
@@ -300,7 +315,7 @@ pub fn pose_at(world: &mut World, seconds: f64) {
         (
             animate_nodes,
             crate::propagate_transforms,
-            crate::skinning::skin_meshes,
+            crate::deformation::deform_meshes,
         )
             .chain(),
     );

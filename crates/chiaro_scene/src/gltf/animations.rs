@@ -1,10 +1,11 @@
 //! glTF animations read into [`AnimationClip`]s (see [`crate::animation`]): each channel that
-//! drives a node's translation, rotation or scale, its sampler's key times and values read
-//! through the checked accessor reader. What chiaro cannot play is left out with a repair line
-//! naming the animation and the channel: a channel whose node is not in the imported scene,
-//! morph target weights, and any channel whose keys are malformed (times not increasing, counts
-//! that do not match, values that are not finite, the wrong accessor format), so that the
-//! scene's static pose still renders.
+//! drives a node's translation, rotation, scale or morph target weights (split into one channel
+//! per target), its sampler's key times and values read through the checked accessor reader.
+//! What chiaro cannot play is left out with a repair line naming the animation and the channel:
+//! a channel whose node is not in the imported scene, morph target weights of a node without
+//! morph targets, and any channel whose keys are malformed (times not increasing, counts that
+//! do not match, values that are not finite, the wrong accessor format), so that the scene's
+//! static pose still renders.
 
 use std::collections::HashMap;
 
@@ -16,12 +17,20 @@ use crate::gltf::accessor::{AccessorReader, Formats};
 use crate::gltf::nodes::element;
 use crate::scene_builder::{NodeIndex, SceneBuilder};
 
-/// The keyframes of a channel's sampler, or why they cannot be played.
+/// What a channel drives: one property of a transform, or all `n` morph weights of a node.
+#[derive(Clone, Copy)]
+enum Driven {
+    Transform(Property),
+    Weights(usize),
+}
+
+/// The keyframes of a channel's sampler (one per morph target for weights), or why they cannot
+/// be played.
 fn keyframes(
     reader: &AccessorReader,
     channel: &gltf::animation::Channel,
-    property: Property,
-) -> Result<Keyframes, String> {
+    driven: Driven,
+) -> Result<Vec<(Property, Keyframes)>, String> {
     let sampler = channel.sampler();
     let times: Vec<f32> = reader
         .read::<1>(&sampler.input(), Formats::Float)
@@ -30,26 +39,76 @@ fn keyframes(
         .map(|[t]| t as f32)
         .collect();
     let output = sampler.output();
-    let values: Vec<Vec4> = match property {
-        Property::Rotation => reader
-            .read::<4>(&output, Formats::FloatOrNorm)
-            .map_err(|why| format!("rotations: {why}"))?
-            .into_iter()
-            .map(|v| Vec4::from_array(v.map(|c| c as f32)))
-            .collect(),
-        Property::Translation | Property::Scale => reader
-            .read::<3>(&output, Formats::Float)
-            .map_err(|why| format!("values: {why}"))?
-            .into_iter()
-            .map(|v| Vec4::new(v[0] as f32, v[1] as f32, v[2] as f32, 0.0))
-            .collect(),
-    };
     let interpolation = match sampler.interpolation() {
         GltfInterpolation::Step => Interpolation::Step,
         GltfInterpolation::Linear => Interpolation::Linear,
         GltfInterpolation::CubicSpline => Interpolation::CubicSpline,
     };
-    Keyframes::new(times, values, interpolation)
+    let (property, values): (Property, Vec<Vec4>) = match driven {
+        Driven::Transform(Property::Rotation) => (
+            Property::Rotation,
+            reader
+                .read::<4>(&output, Formats::FloatOrNorm)
+                .map_err(|why| format!("rotations: {why}"))?
+                .into_iter()
+                .map(|v| Vec4::from_array(v.map(|c| c as f32)))
+                .collect(),
+        ),
+        Driven::Transform(property) => (
+            property,
+            reader
+                .read::<3>(&output, Formats::Float)
+                .map_err(|why| format!("values: {why}"))?
+                .into_iter()
+                .map(|v| Vec4::new(v[0] as f32, v[1] as f32, v[2] as f32, 0.0))
+                .collect(),
+        ),
+        Driven::Weights(n) => {
+            let scalars = reader
+                .read::<1>(&output, Formats::FloatOrNorm)
+                .map_err(|why| format!("weights: {why}"))?;
+            return weight_keyframes(&scalars, n, &times, interpolation);
+        }
+    };
+    Ok(vec![(
+        property,
+        Keyframes::new(times, values, interpolation)?,
+    )])
+}
+
+/// One sampler's weights split into the keyframes of each of the `n` morph targets: the values
+/// of target k are every n-th scalar from k.
+fn weight_keyframes(
+    scalars: &[[f64; 1]],
+    n: usize,
+    times: &[f32],
+    interpolation: Interpolation,
+) -> Result<Vec<(Property, Keyframes)>, String> {
+    if scalars.len() % n != 0 {
+        return Err(format!(
+            "holds {} weights, not a multiple of the {n} morph targets",
+            scalars.len()
+        ));
+    }
+    (0..n)
+        .map(|k| {
+            let values = scalars
+                .iter()
+                .skip(k)
+                .step_by(n)
+                .map(|[w]| Vec4::new(*w as f32, 0.0, 0.0, 0.0))
+                .collect();
+            Keyframes::new(times.to_vec(), values, interpolation)
+                .map(|keys| (Property::MorphWeight(k), keys))
+        })
+        .collect()
+}
+
+/// How many morph targets the mesh of glTF node `node` has (0 without a mesh).
+fn morph_target_count(node: &gltf::Node) -> usize {
+    node.mesh()
+        .and_then(|mesh| mesh.primitives().map(|p| p.morph_targets().count()).max())
+        .unwrap_or(0)
 }
 
 /// Adds the file's animations to `builder`, whose nodes were imported from `document` (each
@@ -71,13 +130,22 @@ pub(crate) fn import(
         for (c, channel) in animation.channels().enumerate() {
             let at = format!("{name}, channel {c}");
             let node = channel.target().node().index();
-            let property = match channel.target().property() {
-                GltfProperty::Translation => Property::Translation,
-                GltfProperty::Rotation => Property::Rotation,
-                GltfProperty::Scale => Property::Scale,
+            let driven = match channel.target().property() {
+                GltfProperty::Translation => Driven::Transform(Property::Translation),
+                GltfProperty::Rotation => Driven::Transform(Property::Rotation),
+                GltfProperty::Scale => Driven::Transform(Property::Scale),
                 GltfProperty::MorphTargetWeights => {
-                    builder.repair(at, "morph target weights are not played: channel left out");
-                    continue;
+                    match morph_target_count(&channel.target().node()) {
+                        0 => {
+                            builder.repair(
+                                at,
+                                "drives the morph weights of a node whose mesh has no morph \
+                                 targets: channel left out",
+                            );
+                            continue;
+                        }
+                        n => Driven::Weights(n),
+                    }
                 }
             };
             let Some(&target) = node_of.get(&(node as u32)) else {
@@ -87,12 +155,14 @@ pub(crate) fn import(
                 );
                 continue;
             };
-            match keyframes(reader, &channel, property) {
-                Ok(keyframes) => channels.push(Channel {
-                    target,
-                    property,
-                    keyframes,
-                }),
+            match keyframes(reader, &channel, driven) {
+                Ok(keyed) => {
+                    channels.extend(keyed.into_iter().map(|(property, keyframes)| Channel {
+                        target,
+                        property,
+                        keyframes,
+                    }))
+                }
                 Err(why) => builder.repair(
                     format!("{at}, sampler {}", channel.sampler().index()),
                     format!("{why}: channel left out"),

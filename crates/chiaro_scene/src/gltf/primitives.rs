@@ -7,6 +7,7 @@ use gltf::mesh::{Mode, Semantic};
 
 use crate::gltf::accessor::{AccessorReader, Formats};
 use crate::mesh_repair::MeshData;
+use crate::morph::MorphTarget;
 
 /// What a primitive turned into.
 pub(crate) enum Converted {
@@ -114,6 +115,45 @@ pub(crate) fn convert_primitive(
         indices: Some(indices),
         tangent_uv_set,
     }))
+}
+
+/// The morph targets of `primitive` (none when it has none), each displacement accessor of
+/// `vertices` elements (floats, or normalized integers).
+pub(crate) fn morph_targets(
+    reader: &AccessorReader,
+    primitive: &gltf::Primitive,
+    vertices: usize,
+) -> Result<Vec<MorphTarget>, String> {
+    let read = |accessor: Option<gltf::Accessor>, what: &str, t: usize| {
+        accessor
+            .map(|a| {
+                let d: Vec<Vec3> = reader
+                    .read_f32::<3>(&a, Formats::FloatOrNorm)
+                    .map_err(|why| format!("morph target {t} {what}: {why}"))?
+                    .into_iter()
+                    .map(Vec3::from)
+                    .collect();
+                if d.len() != vertices {
+                    return Err(format!(
+                        "morph target {t} {what} has {} elements but there are {vertices} positions",
+                        d.len()
+                    ));
+                }
+                Ok(d)
+            })
+            .transpose()
+    };
+    primitive
+        .morph_targets()
+        .enumerate()
+        .map(|(t, target)| {
+            Ok(MorphTarget {
+                positions: read(target.positions(), "POSITION", t)?,
+                normals: read(target.normals(), "NORMAL", t)?,
+                tangents: read(target.tangents(), "TANGENT", t)?,
+            })
+        })
+        .collect()
 }
 
 #[cfg(test)]

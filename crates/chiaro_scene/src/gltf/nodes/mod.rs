@@ -8,17 +8,18 @@ use std::sync::Arc;
 use glam::{Mat4, Quat, Vec3};
 
 use crate::components::{Camera, Light, LightKind, MeshInstance, Projection, Skinned};
+use crate::deformation::BindPose;
 use crate::error::{Fault, SceneError};
 use crate::gltf::accessor::AccessorReader;
 use crate::gltf::gpu_instancing::instance_transforms;
-use crate::gltf::primitives::{Converted, convert_primitive};
-use crate::gltf::skins::{self, Pose};
+use crate::gltf::skins;
 use crate::load::LightUnits;
 use crate::material::{Material, MaterialId};
 use crate::mesh::MeshId;
 use crate::scene_builder::{Node, NodeIndex, SceneBuilder};
-use crate::skinning::{BindPose, SkinBinding};
 use crate::transform::{MAX_HIERARCHY_DEPTH, Transform};
+
+mod meshes;
 
 /// Smallest scale magnitude that is not treated as singular.
 pub const MIN_SCALE: f32 = 1e-20;
@@ -277,17 +278,9 @@ pub(crate) struct NodeImporter<'a> {
     default_material: Option<MaterialId>,
     /// Every glTF node's world matrix, for the joints of skins (empty without skins).
     worlds: Vec<Mat4>,
-    /// Skinned instances waiting for their joints' nodes ([`NodeImporter::bind_skins`]).
-    pending_skins: Vec<PendingSkin>,
-}
-
-/// A skinned instance's node and what binds it to its skin's joints (glTF node indices).
-struct PendingSkin {
-    node: NodeIndex,
-    skin: usize,
-    joints: Vec<usize>,
-    inverse_binds: Arc<[Mat4]>,
-    bind_pose: Arc<BindPose>,
+    /// Deformable instances waiting for their joints' nodes
+    /// ([`NodeImporter::bind_deformations`]).
+    pending: Vec<meshes::PendingDeformation>,
 }
 
 impl<'a> NodeImporter<'a> {
@@ -307,7 +300,7 @@ impl<'a> NodeImporter<'a> {
             meshes: HashMap::new(),
             default_material: None,
             worlds: Vec::new(),
-            pending_skins: Vec::new(),
+            pending: Vec::new(),
         }
     }
 
@@ -376,7 +369,7 @@ impl<'a> NodeImporter<'a> {
                 );
             }
         }
-        self.bind_skins();
+        self.bind_deformations();
         Ok(())
     }
 
@@ -432,9 +425,15 @@ impl<'a> NodeImporter<'a> {
             }
             _ => None,
         };
+        let weights = node
+            .mesh()
+            .and_then(|mesh| self.morph_weights(node, &mesh, &name));
         let (instances, bind_poses): (Vec<MeshInstance>, Vec<Option<Arc<BindPose>>>) =
             match node.mesh() {
-                Some(mesh) => self.instances(&mesh, pose.as_ref())?.into_iter().unzip(),
+                Some(mesh) => self
+                    .instances(&mesh, pose.as_ref(), weights.as_deref())?
+                    .into_iter()
+                    .unzip(),
                 None => (Vec::new(), Vec::new()),
             };
         let skinned = pose.as_ref().map(|p| Skinned {
@@ -453,7 +452,8 @@ impl<'a> NodeImporter<'a> {
             camera,
             source_node: Some(node.index() as u32),
             skinned,
-            skin_binding: None,
+            morph_weights: weights.clone(),
+            deformation: None,
         });
         if let Some((transforms, dropped)) = gpu_instances {
             if dropped > 0 {
@@ -477,55 +477,22 @@ impl<'a> NodeImporter<'a> {
             }
         } else {
             let carriers = self.add_primitive_children(&name, added, &instances, skinned);
-            // (GPU instances share one mesh, which one skin binding per instance cannot pose:
+            // (GPU instances share one mesh, which a deformation per instance cannot pose:
             // those keep their load pose.)
-            if let Some(pose) = &pose {
-                for (node, bind_pose) in carriers.into_iter().zip(bind_poses) {
-                    if let Some(bind_pose) = bind_pose {
-                        self.pending_skins.push(PendingSkin {
-                            node,
-                            skin: pose.skin,
-                            joints: pose.joints.clone(),
-                            inverse_binds: pose.inverse_binds.clone().into(),
-                            bind_pose,
-                        });
-                    }
+            for (carrier, bind_pose) in carriers.into_iter().zip(bind_poses) {
+                if let Some(bind_pose) = bind_pose {
+                    self.pending.push(meshes::PendingDeformation {
+                        node: carrier,
+                        skin: pose
+                            .as_ref()
+                            .map(|p| (p.skin, p.joints.clone(), p.inverse_binds.clone().into())),
+                        weights_from: weights.as_ref().map(|_| added),
+                        bind_pose,
+                    });
                 }
             }
         }
         Ok(Some(added))
-    }
-
-    /// Binds each skinned instance to its joints' nodes, so that it follows them as they move;
-    /// a skin with a joint outside the imported scene keeps its load pose, with a repair line.
-    fn bind_skins(&mut self) {
-        let mut node_of: HashMap<usize, NodeIndex> = HashMap::new();
-        for (index, node) in self.builder.nodes().iter().enumerate() {
-            if let Some(source) = node.source_node {
-                node_of.entry(source as usize).or_insert(index);
-            }
-        }
-        for pending in std::mem::take(&mut self.pending_skins) {
-            let joints: Option<Vec<NodeIndex>> = pending
-                .joints
-                .iter()
-                .map(|j| node_of.get(j).copied())
-                .collect();
-            match joints {
-                Some(joints) => self.builder.set_skin_binding(
-                    pending.node,
-                    SkinBinding {
-                        joints,
-                        inverse_binds: pending.inverse_binds,
-                        bind_pose: pending.bind_pose,
-                    },
-                ),
-                None => self.builder.repair(
-                    element("skin", pending.skin, None),
-                    "has a joint outside the imported scene: its meshes keep their load pose",
-                ),
-            }
-        }
     }
 
     /// With more than one primitive, each becomes a child of `holder` (one is carried by the
@@ -552,93 +519,6 @@ impl<'a> NodeImporter<'a> {
             }
         }
         carriers
-    }
-
-    /// One instance per drawable primitive of the mesh, converting each primitive once; with
-    /// a `pose`, each is posed into a mesh of this instance's own.
-    fn instances(
-        &mut self,
-        mesh: &gltf::Mesh,
-        pose: Option<&Pose>,
-    ) -> Result<Vec<(MeshInstance, Option<Arc<BindPose>>)>, SceneError> {
-        let mut out = Vec::new();
-        for primitive in mesh.primitives() {
-            let key = (mesh.index(), primitive.index());
-            let material = self.material(&primitive);
-            let converted = match (pose, self.meshes.get(&key)) {
-                (Some(pose), _) => self.convert(mesh, &primitive, material, Some(pose))?,
-                (None, Some(id)) => id.map(|id| (id, None)),
-                (None, None) => {
-                    let converted = self.convert(mesh, &primitive, material, None)?;
-                    self.meshes
-                        .insert(key, converted.as_ref().map(|(id, _)| *id));
-                    converted
-                }
-            };
-            if let Some((mesh, bind_pose)) = converted {
-                out.push((MeshInstance { mesh, material }, bind_pose));
-            }
-        }
-        Ok(out)
-    }
-
-    fn material(&mut self, primitive: &gltf::Primitive) -> MaterialId {
-        match primitive.material().index() {
-            Some(i) => MaterialId(i as u32),
-            None => *self
-                .default_material
-                .get_or_insert_with(|| self.builder.add_material(Material::default())),
-        }
-    }
-
-    fn convert(
-        &mut self,
-        mesh: &gltf::Mesh,
-        primitive: &gltf::Primitive,
-        material: MaterialId,
-        pose: Option<&Pose>,
-    ) -> Result<Option<(MeshId, Option<Arc<BindPose>>)>, SceneError> {
-        let element = format!(
-            "{} primitive {}",
-            element("mesh", mesh.index(), mesh.name()),
-            primitive.index()
-        );
-        let tangent_uv_set = self
-            .materials
-            .get(material.0 as usize)
-            .and_then(|m| m.normal_texture)
-            .map(|t| t.uv_set as usize);
-        match convert_primitive(&self.reader, primitive, tangent_uv_set) {
-            Ok(Converted::Triangles(mut data)) => {
-                let name = mesh.name().map_or_else(|| element.clone(), str::to_owned);
-                let mut bind_pose = None;
-                if let Some(pose) = pose {
-                    let bind = data.clone();
-                    let (influences, repairs) =
-                        skins::pose_primitive(&self.reader, primitive, pose, &mut data)
-                            .map_err(|why| self.error(element.clone(), Fault::Skin(why)))?;
-                    for repair in repairs {
-                        self.builder.repair(element.clone(), repair);
-                    }
-                    bind_pose = influences.map(|influences| {
-                        Arc::new(BindPose {
-                            name: name.clone(),
-                            data: bind,
-                            influences,
-                        })
-                    });
-                }
-                Ok(self
-                    .builder
-                    .add_mesh(&element, &name, data)?
-                    .map(|id| (id, bind_pose)))
-            }
-            Ok(Converted::Skipped(why)) => {
-                self.builder.repair(element, format!("skipped: {why}"));
-                Ok(None)
-            }
-            Err(why) => Err(self.error(element, Fault::Accessor(why))),
-        }
     }
 }
 
