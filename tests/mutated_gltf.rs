@@ -1,9 +1,10 @@
-//! Mutation testing of the glTF importer: every shared sample model, mutated many times from a
+//! Mutation testing of the glTF importer: every shared sample model (the animated, skinned and
+//! morphed ones included, each mutant posed after loading), mutated many times from a
 //! seed (see `common/mutate.rs`: JSON fields, hostile URIs, cycles, NaN, bit flips,
 //! truncations), must load or fail with an error naming the file, never panic, answer within
 //! [`TIME_BOUND`], and allocate at most [`MEMORY_BOUND`] while loading (a counting allocator
 //! measures each load's peak). The mutants are seeded, so a failure names the seed that
-//! reproduces it. `CHIARO_MUTANTS=N` runs N per model (default 100, about 500 in all);
+//! reproduces it. `CHIARO_MUTANTS=N` runs N per model (default 100, about 1000 in all);
 //! `scripts/mutate_long.sh` runs thousands.
 
 mod common;
@@ -76,7 +77,14 @@ fn check_mutant(path: &Path, bytes: &[u8], what: &str) -> (Outcome, usize) {
     let before = LIVE.load(Ordering::Relaxed);
     let start = Instant::now();
     std::thread::spawn(move || {
-        let result = std::panic::catch_unwind(|| load_gltf(&file).map(drop));
+        // Loaded, spawned and posed (animations played, skins and morphs re-posed).
+        let result = std::panic::catch_unwind(|| {
+            load_gltf(&file).map(|builder| {
+                let mut world = bevy_ecs::world::World::new();
+                builder.spawn(&mut world);
+                chiaro::scene::pose_at(&mut world, 0.5);
+            })
+        });
         let _ = tx.send(result.map(|r| r.map_err(|e| e.to_string())));
     });
     let result = rx.recv_timeout(TIME_BOUND).unwrap_or_else(|_| {
@@ -117,8 +125,10 @@ fn mutated_sample_models_load_or_fail_cleanly() {
     std::fs::create_dir_all(&scratch).unwrap();
     let (mut loaded, mut refused, mut peak) = (0usize, 0usize, 0usize);
     let start = Instant::now();
+    let animated = common::shared_dir("scenes/animated");
     let mut models: Vec<_> = std::fs::read_dir(&dir)
         .unwrap()
+        .chain(std::fs::read_dir(&animated).unwrap())
         .map(|e| e.unwrap().path())
         .filter(|p| p.extension().and_then(|e| e.to_str()) == Some("glb"))
         .collect();

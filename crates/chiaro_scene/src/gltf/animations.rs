@@ -104,6 +104,43 @@ fn weight_keyframes(
         .collect()
 }
 
+/// Why channel `c` of animation `a` cannot even be looked at, checked on the JSON: the gltf
+/// crate's accessors for a channel's sampler, node, path, interpolation and accessors index
+/// unchecked (and its validation leaves some of them out). None when all exist.
+fn dangling_reference(document: &gltf::Document, a: usize, c: usize) -> Option<String> {
+    use gltf::json::validation::Checked;
+    let root = document.as_json();
+    let animation = &root.animations[a];
+    let channel = &animation.channels[c];
+    let Some(sampler) = animation.samplers.get(channel.sampler.value()) else {
+        return Some(format!(
+            "names sampler {}, which does not exist",
+            channel.sampler.value()
+        ));
+    };
+    let node = channel.target.node.value();
+    if node >= root.nodes.len() {
+        return Some(format!("drives node {node}, which does not exist"));
+    }
+    if !matches!(channel.target.path, Checked::Valid(_)) {
+        return Some("drives a property chiaro does not know".into());
+    }
+    if !matches!(sampler.interpolation, Checked::Valid(_)) {
+        return Some("its sampler's interpolation is not STEP, LINEAR or CUBICSPLINE".into());
+    }
+    for (what, index) in [
+        ("input", sampler.input.value()),
+        ("output", sampler.output.value()),
+    ] {
+        if index >= root.accessors.len() {
+            return Some(format!(
+                "its sampler's {what} names accessor {index}, which does not exist"
+            ));
+        }
+    }
+    None
+}
+
 /// How many morph targets the mesh of glTF node `node` has (0 without a mesh).
 fn morph_target_count(node: &gltf::Node) -> usize {
     node.mesh()
@@ -129,6 +166,10 @@ pub(crate) fn import(
         let mut channels = Vec::new();
         for (c, channel) in animation.channels().enumerate() {
             let at = format!("{name}, channel {c}");
+            if let Some(why) = dangling_reference(document, animation.index(), c) {
+                builder.repair(at, format!("{why}: channel left out"));
+                continue;
+            }
             let node = channel.target().node().index();
             let driven = match channel.target().property() {
                 GltfProperty::Translation => Driven::Transform(Property::Translation),
