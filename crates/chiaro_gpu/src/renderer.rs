@@ -40,7 +40,7 @@ pub enum RenderError {
     NotRendered,
     /// The scene's BVH, light tables or environment do not fit the device's largest texture.
     #[error("the scene is too large for this device: {0}")]
-    SceneTooLarge(#[from] crate::gpu_scene::TexelOverflow),
+    SceneTooLarge(#[from] crate::gpu_scene::SceneOverflow),
     /// The image size is zero or beyond the device's limit.
     #[error("image size {width}x{height} is not within 1..={max} per side on this device")]
     Size {
@@ -348,7 +348,7 @@ impl Renderer {
         gpu_camera.frame_seed = coverage_frame_seed(settings.seed, self.frame_index);
         let scene = world.resource::<GpuScene>();
         if let Some(overflow) = scene.overflow() {
-            return Err(overflow.clone().into());
+            return Err(overflow.into());
         }
         let changed = self.previous != Some(gpu_camera.unjittered())
             || scene.content_changed

@@ -44,6 +44,18 @@ impl UploadStats {
 /// Two dirty ranges closer than this many elements are written as one.
 const MERGE_GAP: usize = 4;
 
+/// Data too large for one buffer (a storage buffer's binding) of the device.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{label}: {bytes} bytes exceed the device's largest buffer of this kind ({max} bytes)")]
+pub struct BufferOverflow {
+    /// The buffer.
+    pub label: &'static str,
+    /// Bytes asked for.
+    pub bytes: u64,
+    /// The device's `max_storage_buffer_binding_size` (a storage buffer) or `max_buffer_size`.
+    pub max: u64,
+}
+
 /// A storage buffer of `T` mirrored on the CPU.
 pub struct MirrorBuffer<T: Pod> {
     label: &'static str,
@@ -51,6 +63,7 @@ pub struct MirrorBuffer<T: Pod> {
     buffer: wgpu::Buffer,
     capacity: usize,
     cpu: Vec<T>,
+    overflow: Option<BufferOverflow>,
 }
 
 impl<T: Pod + PartialEq> MirrorBuffer<T> {
@@ -63,6 +76,7 @@ impl<T: Pod + PartialEq> MirrorBuffer<T> {
             buffer: Self::allocate(device, label, usage, 1),
             capacity: 1,
             cpu: Vec::new(),
+            overflow: None,
         }
     }
 
@@ -90,8 +104,16 @@ impl<T: Pod + PartialEq> MirrorBuffer<T> {
         &self.cpu
     }
 
+    /// Why the last update wrote nothing, if `data` was larger than one binding may be (kept
+    /// until an update succeeds).
+    pub fn overflow(&self) -> Option<&BufferOverflow> {
+        self.overflow.as_ref()
+    }
+
     /// Makes the GPU buffer hold `data`, writing only the ranges that differ from what it
-    /// holds. Returns true when the buffer was reallocated (bind groups must be remade).
+    /// holds. Returns true when the buffer was reallocated (bind groups must be remade). Data
+    /// larger than the device's largest storage binding is not written: the buffer keeps its
+    /// contents and [`MirrorBuffer::overflow`] says why.
     pub fn update(
         &mut self,
         device: &wgpu::Device,
@@ -100,8 +122,26 @@ impl<T: Pod + PartialEq> MirrorBuffer<T> {
         stats: &mut UploadStats,
     ) -> bool {
         let element = size_of::<T>();
+        let limits = device.limits();
+        let max = if self.usage.contains(wgpu::BufferUsages::STORAGE) {
+            u64::from(limits.max_storage_buffer_binding_size).min(limits.max_buffer_size)
+        } else {
+            limits.max_buffer_size
+        };
+        let most = (max / element as u64) as usize;
+        let bytes = std::mem::size_of_val(data) as u64;
+        if bytes > max {
+            self.overflow = Some(BufferOverflow {
+                label: self.label,
+                bytes,
+                max,
+            });
+            return false;
+        }
+        self.overflow = None;
         if data.len() > self.capacity {
-            self.capacity = data.len().next_power_of_two();
+            // Grown by powers of two, but never past what one binding may hold.
+            self.capacity = data.len().next_power_of_two().min(most).max(data.len());
             self.buffer = Self::allocate(device, self.label, self.usage, self.capacity);
             stats.allocations += 1;
             if !data.is_empty() {

@@ -66,9 +66,21 @@ pub use layout::{
     GpuTextureInfo, GpuTextureSlot, GpuVertex,
 };
 use light_trees::FlatTree;
+pub use mirror::BufferOverflow;
 pub use mirror::{MirrorBuffer, UploadStats};
 pub use raster::RasterVertex;
 pub use texel_mirror::{MirrorTexels, TexelOverflow};
+
+/// Why a scene does not fit the device.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum SceneOverflow {
+    /// A texel array larger than the device's largest texture.
+    #[error(transparent)]
+    Texels(#[from] TexelOverflow),
+    /// A buffer larger than the device's largest storage binding.
+    #[error(transparent)]
+    Buffer(#[from] BufferOverflow),
+}
 pub use upload::upload_gpu_scene;
 
 /// The G-buffer's vertex buffers, by what they hold; the slots and attributes are
@@ -299,9 +311,11 @@ impl GpuScene {
     }
 
     /// Why the scene is not on the GPU whole: a BVH array, the vertices, indices or materials,
-    /// a light table or an environment array larger than the device's largest texture.
-    pub fn overflow(&self) -> Option<&TexelOverflow> {
-        self.blas_nodes
+    /// a light table or an environment array larger than the device's largest texture, or the
+    /// texture texels or another buffer larger than its largest storage binding.
+    pub fn overflow(&self) -> Option<SceneOverflow> {
+        let texels = self
+            .blas_nodes
             .overflow()
             .or(self.triangles.overflow())
             .or(self.tlas_nodes.overflow())
@@ -313,7 +327,20 @@ impl GpuScene {
             .or(self.area_lights.overflow())
             .or(self.light_tree.overflow())
             .or(self.env_texels.overflow())
-            .or(self.env_table.overflow())
+            .or(self.env_table.overflow());
+        if let Some(o) = texels {
+            return Some(SceneOverflow::Texels(o.clone()));
+        }
+        let buffer = self
+            .instances
+            .overflow()
+            .or(self.meshes.overflow())
+            .or(self.texels.overflow())
+            .or(self.textures.overflow())
+            .or(self.instance_extras.overflow())
+            .or(self.raster_vertices.overflow())
+            .or(self.raster_indices.overflow());
+        buffer.map(|o| SceneOverflow::Buffer(o.clone()))
     }
 
     fn buffers(&self) -> [&wgpu::Buffer; 6] {
