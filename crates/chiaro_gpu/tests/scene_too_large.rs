@@ -15,7 +15,7 @@ const LARGEST_TESTED: u64 = 256 << 20;
 #[test]
 fn texels_past_the_largest_binding_are_an_error_naming_them() {
     let Some(gpu) = common::gpu() else { return };
-    let max = u64::from(gpu.device.limits().max_storage_buffer_binding_size);
+    let max = gpu.device.limits().max_storage_buffer_binding_size;
     if max > LARGEST_TESTED {
         eprintln!("skipped: this device binds {max} bytes; the test goes to {LARGEST_TESTED}");
         return;

@@ -124,7 +124,9 @@ impl<T: Pod + PartialEq> MirrorBuffer<T> {
         let element = size_of::<T>();
         let limits = device.limits();
         let max = if self.usage.contains(wgpu::BufferUsages::STORAGE) {
-            u64::from(limits.max_storage_buffer_binding_size).min(limits.max_buffer_size)
+            limits
+                .max_storage_buffer_binding_size
+                .min(limits.max_buffer_size)
         } else {
             limits.max_buffer_size
         };

@@ -84,7 +84,7 @@ fn weight_keyframes(
     times: &[f32],
     interpolation: Interpolation,
 ) -> Result<Vec<(Property, Keyframes)>, String> {
-    if scalars.len() % n != 0 {
+    if !scalars.len().is_multiple_of(n) {
         return Err(format!(
             "holds {} weights, not a multiple of the {n} morph targets",
             scalars.len()

@@ -27,7 +27,7 @@ use crate::ggx;
 fn refraction_half_vector(wo: Vec3, wi: Vec3, eta: f32) -> Option<Vec3> {
     let sum = -(wo + wi * eta);
     let length = sum.length();
-    if !(length > 0.0) {
+    if length.is_nan() || length <= 0.0 {
         return None;
     }
     let h = sum / length * sum.z.signum();

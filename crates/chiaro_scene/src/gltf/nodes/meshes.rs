@@ -19,6 +19,12 @@ use crate::mesh::MeshId;
 use crate::morph::morph_mesh_data;
 use crate::scene_builder::NodeIndex;
 
+/// A converted primitive's mesh, with its bind pose when it can deform.
+type MeshWithBindPose = (MeshId, Option<Arc<BindPose>>);
+
+/// A mesh instance, with its mesh's bind pose when it can deform.
+pub(super) type InstanceWithBindPose = (MeshInstance, Option<Arc<BindPose>>);
+
 /// A deformable instance's node and what it follows (its skin's joints as glTF node indices).
 pub(super) struct PendingDeformation {
     /// The builder node carrying the instance.
@@ -79,7 +85,7 @@ impl NodeImporter<'_> {
         mesh: &gltf::Mesh,
         pose: Option<&Pose>,
         weights: Option<&[f32]>,
-    ) -> Result<Vec<(MeshInstance, Option<Arc<BindPose>>)>, SceneError> {
+    ) -> Result<Vec<InstanceWithBindPose>, SceneError> {
         let mut out = Vec::new();
         let deformed = pose.is_some() || weights.is_some();
         for primitive in mesh.primitives() {
@@ -118,7 +124,7 @@ impl NodeImporter<'_> {
         material: MaterialId,
         pose: Option<&Pose>,
         weights: Option<&[f32]>,
-    ) -> Result<Option<(MeshId, Option<Arc<BindPose>>)>, SceneError> {
+    ) -> Result<Option<MeshWithBindPose>, SceneError> {
         let element = format!(
             "{} primitive {}",
             element("mesh", mesh.index(), mesh.name()),
