@@ -146,6 +146,10 @@ fn octahedral_decode(packed: u32) -> Vec3 {
     n.normalize()
 }
 
+/// The bits of the G-buffer emission target's w that hold the instance + 1; bits 31 and 30 are
+/// flags (`shaders/lib/gbuffer_packing.wgsl`: the surface shades, the back face is seen).
+const GBUFFER_INSTANCE_BITS: u32 = 0x3fff_ffff;
+
 /// Renders worlds on one GPU context.
 pub struct Renderer {
     /// The device.
@@ -414,7 +418,7 @@ impl Renderer {
                 .collect(),
             instance: emission
                 .chunks_exact(4)
-                .map(|e| (e[3] & 0x7fff_ffff).checked_sub(1))
+                .map(|e| (e[3] & GBUFFER_INSTANCE_BITS).checked_sub(1))
                 .collect(),
             geometric_normal: surface
                 .chunks_exact(4)
