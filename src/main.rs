@@ -3,6 +3,7 @@
 mod args;
 mod bench;
 mod compare;
+mod render;
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -358,7 +359,7 @@ fn main() -> Result<()> {
                 time,
             };
             let animation = animate.then_some(fps);
-            render(
+            render::run(
                 &scene,
                 &memory,
                 size,
@@ -478,86 +479,6 @@ fn info(args: &SceneArgs) -> Result<()> {
         chiaro::scene::MemoryEstimate::of_world(&mut world, 512, 512)
     );
     println!("load time: {:.1} ms", elapsed.as_secs_f64() * 1e3);
-    Ok(())
-}
-
-/// Renders `args`' scene on the GPU; with `animation` (frames per second) each frame advances
-/// the animation time by 1 / fps from `--time`.
-#[allow(clippy::too_many_arguments)]
-fn render(
-    args: &SceneArgs,
-    memory: &MemoryArgs,
-    size: (u32, u32),
-    frames: u32,
-    out: &Path,
-    frame: FrameSettings,
-    seed: u64,
-    animation: Option<f64>,
-) -> Result<()> {
-    let exr = match out.extension().and_then(|e| e.to_str()) {
-        Some("exr") => true,
-        Some("png") => false,
-        _ => bail!("{}: the output must end in .png or .exr", out.display()),
-    };
-    frame.validate()?;
-    let mut world = load(args)?;
-    memory.check(&args.scene, &mut world, size)?;
-    let context = chiaro::gpu::GpuContext::new_headless()?;
-    let adapter = context.describe();
-    let mut renderer = chiaro::gpu::Renderer::new(context);
-    let settings = chiaro::gpu::RenderSettings {
-        width: size.0,
-        height: size.1,
-        frames,
-        seed,
-        frame,
-    };
-    let start = Instant::now();
-    let start_time = args.time.time.unwrap_or(0.0);
-    let output = renderer
-        .render_with(&mut world, &settings, |world, k| {
-            if let Some(fps) = animation {
-                world.insert_resource(chiaro::scene::Time {
-                    seconds: start_time + f64::from(k) / fps,
-                });
-            }
-        })
-        .context("cannot render")?;
-    let seconds = start.elapsed().as_secs_f64();
-    if exr {
-        write_exr(out, output.width, output.height, &output.hdr)?;
-    } else {
-        chiaro::reference::write_png_pixels(
-            out,
-            output.width,
-            output.height,
-            &output.ldr,
-            image::ExtendedColorType::Rgba8,
-        )?;
-    }
-    println!("wrote {}", out.display());
-    println!(
-        "{}x{}, {} frames of {} in {seconds:.2} s on {adapter}",
-        output.width,
-        output.height,
-        output.times.len(),
-        frame.mode.name()
-    );
-    let timed = &output.times[output.times.len() / 2..];
-    let clock = match timed.first() {
-        Some(t) if t.gpu_timestamps => "GPU timestamps",
-        _ => "wall clock",
-    };
-    for (index, (name, _)) in timed
-        .first()
-        .map_or(&[][..], |t| &t.passes)
-        .iter()
-        .enumerate()
-    {
-        let mut ms: Vec<f64> = timed.iter().map(|t| t.passes[index].1).collect();
-        ms.sort_by(f64::total_cmp);
-        println!("  {name:<10} {:8.3} ms (median, {clock})", ms[ms.len() / 2]);
-    }
     Ok(())
 }
 

@@ -14,9 +14,8 @@ use chiaro_gpu::{FrameSettings, RenderMode, Renderer};
 use chiaro_reference::PathSettings;
 use chiaro_scene::builtin::shapes::icosphere;
 use chiaro_scene::{Material, SceneBuilder, SceneFeatures, Transform};
-use common::masked_rel_mse;
 use glam::Vec3;
-use hard_cases_common::{cpu_reference, erode, mode, settings};
+use hard_cases_common::{cpu_reference, gpu_modes_match_the_cpu, mode, settings};
 
 fn spheres() -> World {
     let mut b = SceneBuilder::new("material extensions");
@@ -74,43 +73,12 @@ fn coats_specular_tints_and_glass_match_the_cpu_reference() {
     let mut world = spheres();
     let cpu = cpu_reference(&mut world, size, 256, PathSettings::default());
     let mut renderer = Renderer::new(gpu);
-    let reference = FrameSettings {
-        spp: 4,
-        ..mode(RenderMode::Reference)
-    };
-    let a = renderer
-        .render(&mut world, &settings(size, 48, 1, reference))
-        .unwrap();
-    let g = renderer.read_gbuffer().unwrap();
+    gpu_modes_match_the_cpu(&mut renderer, &mut world, &cpu, size, 48);
     let features = *world.resource::<SceneFeatures>();
     assert!(
         features.clearcoat && features.transmission && features.sheen,
         "the scene's features: {features:?}"
     );
-    let b = renderer
-        .render(&mut world, &settings(size, 48, 2, reference))
-        .unwrap();
-    let covered: Vec<bool> = g.instance.iter().map(|i| i.is_some()).collect();
-    let mask = erode(&covered, size as usize);
-    let cpu_noise = masked_rel_mse(&cpu.halves[0], &cpu.halves[1], &mask) / 4.0;
-    let gpu_noise = masked_rel_mse(&a.hdr, &b.hdr, &mask) / 2.0;
-    let error = masked_rel_mse(&a.hdr, &cpu.image, &mask);
-    let bound = 3.0 * (cpu_noise + gpu_noise);
-    eprintln!(
-        "reference mode: relMSE {error:.3e} against the CPU, bound {bound:.3e} (noise: GPU \
-         {gpu_noise:.3e}, CPU {cpu_noise:.3e})"
-    );
-    assert!(error < bound, "reference mode: relMSE {error} > {bound}");
-
-    let realtime = renderer
-        .render(
-            &mut world,
-            &settings(size, 32, 1, mode(RenderMode::Realtime)),
-        )
-        .unwrap();
-    let error = masked_rel_mse(&realtime.hdr, &cpu.image, &mask);
-    eprintln!("realtime: relMSE {error:.3e} against the CPU");
-    assert!(error < 0.05, "realtime: relMSE {error}");
 }
 
 /// A clear, smooth, thin-walled pane filling the view under a white sky of radiance 1: what it

@@ -22,9 +22,8 @@ use chiaro_scene::builtin::shapes::{cuboid, floor, icosphere, quad};
 use chiaro_scene::{
     Camera, Material, Node, Projection, SceneBuilder, SceneFeatures, Transform, Volume,
 };
-use common::masked_rel_mse;
 use glam::Vec3;
-use hard_cases_common::{cpu_reference, erode, mode, settings};
+use hard_cases_common::{cpu_reference, gpu_modes_match_the_cpu, mode, settings};
 
 /// Clear glass of IOR 1.5 (a volume) with this Beer-Lambert attenuation and roughness.
 fn glass(name: &str, roughness: f32, volume: Volume) -> Material {
@@ -222,38 +221,5 @@ fn glass_spheres_match_the_cpu_reference() {
     let size = 40;
     let cpu = cpu_reference(&mut world, size, 256, PathSettings::default());
     let Some(gpu) = common::gpu() else { return };
-    let mut renderer = Renderer::new(gpu);
-    let reference = FrameSettings {
-        spp: 4,
-        ..mode(RenderMode::Reference)
-    };
-    let a = renderer
-        .render(&mut world, &settings(size, 64, 1, reference))
-        .unwrap();
-    let g = renderer.read_gbuffer().unwrap();
-    let b = renderer
-        .render(&mut world, &settings(size, 64, 2, reference))
-        .unwrap();
-    let covered: Vec<bool> = g.instance.iter().map(|i| i.is_some()).collect();
-    let mask = erode(&covered, size as usize);
-    let cpu_noise = masked_rel_mse(&cpu.halves[0], &cpu.halves[1], &mask) / 4.0;
-    let gpu_noise = masked_rel_mse(&a.hdr, &b.hdr, &mask) / 2.0;
-    let error = masked_rel_mse(&a.hdr, &cpu.image, &mask);
-    let bound = 3.0 * (cpu_noise + gpu_noise);
-    eprintln!(
-        "reference mode: relMSE {error:.3e} against the CPU, bound {bound:.3e} (noise: GPU \
-         {gpu_noise:.3e}, CPU {cpu_noise:.3e})"
-    );
-    assert!(error < bound, "relMSE {error} > {bound}");
-    // The realtime frame traces the same refraction (its approximation is the denoiser's
-    // blur): its error against the CPU, measured.
-    let realtime = renderer
-        .render(
-            &mut world,
-            &settings(size, 32, 1, mode(RenderMode::Realtime)),
-        )
-        .unwrap();
-    let error = masked_rel_mse(&realtime.hdr, &cpu.image, &mask);
-    eprintln!("realtime: relMSE {error:.3e} against the CPU");
-    assert!(error < 0.05, "realtime: relMSE {error}");
+    gpu_modes_match_the_cpu(&mut Renderer::new(gpu), &mut world, &cpu, size, 64);
 }

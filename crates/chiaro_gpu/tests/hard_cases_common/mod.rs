@@ -7,6 +7,8 @@ use chiaro_scene::builtin::{CASES_ALONE, hard_case_scene};
 use chiaro_scene::{ActiveCamera, Camera, load_scene};
 use glam::Vec3;
 
+use crate::common::masked_rel_mse;
+
 /// Makes the camera of `case` the active one.
 #[allow(dead_code)]
 pub fn view_case(world: &mut World, case: &str) {
@@ -95,6 +97,48 @@ pub fn cpu_reference(
         path,
     };
     chiaro_reference::render_world(world, &settings, false).unwrap()
+}
+
+/// The GPU against `cpu` (a CPU reference of the same view, `size` x `size`) over the pixels
+/// the G-buffer covers, eroded: the reference mode (two runs of `frames` frames of 4 paths,
+/// seeds 1 and 2, their difference its own noise) within three times the combined noise, and
+/// the realtime frame (32 frames; its denoiser blurs) within relMSE 0.05.
+#[allow(dead_code)]
+pub fn gpu_modes_match_the_cpu(
+    renderer: &mut chiaro_gpu::Renderer,
+    world: &mut World,
+    cpu: &chiaro_reference::RenderOutput,
+    size: u32,
+    frames: u32,
+) {
+    let reference = FrameSettings {
+        spp: 4,
+        ..mode(RenderMode::Reference)
+    };
+    let a = renderer
+        .render(world, &settings(size, frames, 1, reference))
+        .unwrap();
+    let g = renderer.read_gbuffer().unwrap();
+    let b = renderer
+        .render(world, &settings(size, frames, 2, reference))
+        .unwrap();
+    let covered: Vec<bool> = g.instance.iter().map(|i| i.is_some()).collect();
+    let mask = erode(&covered, size as usize);
+    let cpu_noise = masked_rel_mse(&cpu.halves[0], &cpu.halves[1], &mask) / 4.0;
+    let gpu_noise = masked_rel_mse(&a.hdr, &b.hdr, &mask) / 2.0;
+    let error = masked_rel_mse(&a.hdr, &cpu.image, &mask);
+    let bound = 3.0 * (cpu_noise + gpu_noise);
+    eprintln!(
+        "reference mode: relMSE {error:.3e} against the CPU, bound {bound:.3e} (noise: GPU \
+         {gpu_noise:.3e}, CPU {cpu_noise:.3e})"
+    );
+    assert!(error < bound, "reference mode: relMSE {error} > {bound}");
+    let realtime = renderer
+        .render(world, &settings(size, 32, 1, mode(RenderMode::Realtime)))
+        .unwrap();
+    let error = masked_rel_mse(&realtime.hdr, &cpu.image, &mask);
+    eprintln!("realtime: relMSE {error:.3e} against the CPU");
+    assert!(error < 0.05, "realtime: relMSE {error}");
 }
 
 /// The mean of all channels over the pixels where `mask` is true.

@@ -1,0 +1,91 @@
+//! `chiaro render`: the GPU frame of a scene, accumulated over frames (with `--animate`, the
+//! animation time advancing per frame), written as PNG or EXR, with the passes' times.
+
+use std::path::Path;
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use chiaro::gpu::FrameSettings;
+use chiaro::reference::write_exr;
+
+use super::{MemoryArgs, SceneArgs, load};
+
+/// Renders `args`' scene on the GPU; with `animation` (frames per second) each frame advances
+/// the animation time by 1 / fps from `--time`.
+#[allow(clippy::too_many_arguments)]
+pub fn run(
+    args: &SceneArgs,
+    memory: &MemoryArgs,
+    size: (u32, u32),
+    frames: u32,
+    out: &Path,
+    frame: FrameSettings,
+    seed: u64,
+    animation: Option<f64>,
+) -> Result<()> {
+    let exr = match out.extension().and_then(|e| e.to_str()) {
+        Some("exr") => true,
+        Some("png") => false,
+        _ => bail!("{}: the output must end in .png or .exr", out.display()),
+    };
+    frame.validate()?;
+    let mut world = load(args)?;
+    memory.check(&args.scene, &mut world, size)?;
+    let context = chiaro::gpu::GpuContext::new_headless()?;
+    let adapter = context.describe();
+    let mut renderer = chiaro::gpu::Renderer::new(context);
+    let settings = chiaro::gpu::RenderSettings {
+        width: size.0,
+        height: size.1,
+        frames,
+        seed,
+        frame,
+    };
+    let start = Instant::now();
+    let start_time = args.time.time.unwrap_or(0.0);
+    let output = renderer
+        .render_with(&mut world, &settings, |world, k| {
+            if let Some(fps) = animation {
+                world.insert_resource(chiaro::scene::Time {
+                    seconds: start_time + f64::from(k) / fps,
+                });
+            }
+        })
+        .context("cannot render")?;
+    let seconds = start.elapsed().as_secs_f64();
+    if exr {
+        write_exr(out, output.width, output.height, &output.hdr)?;
+    } else {
+        chiaro::reference::write_png_pixels(
+            out,
+            output.width,
+            output.height,
+            &output.ldr,
+            image::ExtendedColorType::Rgba8,
+        )?;
+    }
+    println!("wrote {}", out.display());
+    println!(
+        "{}x{}, {} frames of {} in {seconds:.2} s on {adapter}",
+        output.width,
+        output.height,
+        output.times.len(),
+        frame.mode.name()
+    );
+    let timed = &output.times[output.times.len() / 2..];
+    let clock = match timed.first() {
+        Some(t) if t.gpu_timestamps => "GPU timestamps",
+        _ => "wall clock",
+    };
+    for (index, (name, _)) in timed
+        .first()
+        .map_or(&[][..], |t| &t.passes)
+        .iter()
+        .enumerate()
+    {
+        let mut ms: Vec<f64> = timed.iter().map(|t| t.passes[index].1).collect();
+        ms.sort_by(f64::total_cmp);
+        println!("  {name:<10} {:8.3} ms (median, {clock})", ms[ms.len() / 2]);
+    }
+    Ok(())
+}
