@@ -8,6 +8,7 @@
 //! | `hard-cases` | numerically hard cases side by side, each with its camera (`scale` only alone) | `case` (one case alone) |
 //! | `instances` | one mesh instanced on a grid | `n` (instances, default 1024) |
 //! | `many-lights` | small emissive quads and punctual lights over a floor | `quads`, `lights` (256 each) |
+//! | `walkthrough` | a colonnaded street of 1.3M unique triangles that moves, with a camera path | `size` (bays, 8), `detail` (4), `seed` (1) |
 //!
 //! Built-in scenes go through the same mesh validation as files; they need no file.
 
@@ -17,6 +18,7 @@ mod hard_cases;
 mod instances;
 mod many_lights;
 pub mod shapes;
+pub mod walkthrough;
 
 use std::collections::BTreeMap;
 
@@ -26,12 +28,13 @@ use crate::scene_builder::SceneBuilder;
 pub use hard_cases::{CASES_ALONE, HARD_CASES, hard_case_scene};
 
 /// Names of the built-in scenes.
-pub const BUILTIN_SCENES: [&str; 5] = [
+pub const BUILTIN_SCENES: [&str; 6] = [
     "cornell",
     "furnace",
     "hard-cases",
     "instances",
     "many-lights",
+    "walkthrough",
 ];
 
 /// Parameters of a built-in scene, parsed from its `?key=value&...` suffix.
@@ -97,6 +100,7 @@ pub fn build(spec: &str) -> Result<SceneBuilder, SceneError> {
         "hard-cases" => hard_cases::build(&mut builder, &mut params)?,
         "instances" => instances::build(&mut builder, &mut params)?,
         "many-lights" => many_lights::build(&mut builder, &mut params)?,
+        "walkthrough" => walkthrough::build(&mut builder, &mut params)?,
         _ => {
             return Err(whole(format!(
                 "unknown built-in scene '{name}' (known: {})",
