@@ -29,7 +29,9 @@ pub fn run(
         _ => bail!("{}: the output must end in .png or .exr", out.display()),
     };
     frame.validate()?;
+    let load_start = Instant::now();
     let mut world = load(args)?;
+    let load_seconds = load_start.elapsed().as_secs_f64();
     memory.check(&args.scene, &mut world, size)?;
     let context = chiaro::gpu::GpuContext::new_headless()?;
     let adapter = context.describe();
@@ -71,6 +73,34 @@ pub fn run(
         output.height,
         output.times.len(),
         frame.mode.name()
+    );
+    if let (Some(setup), Some(first)) = (renderer.setup_times(), output.times.first()) {
+        let triangles = chiaro::scene::SceneInfo::gather(&mut world).mesh_triangles;
+        let to_first = load_seconds + setup.systems + (first.wall_ms - first.compile_ms) / 1e3;
+        println!(
+            "startup: load {:.0} ms, BVH build {:.0} ms ({:.2} M triangles/s), upload {:.0} ms, \
+             pipelines {:.0} ms, first frame {:.0} ms; file to first frame {:.2} s without \
+             pipelines",
+            load_seconds * 1e3,
+            setup.bvh * 1e3,
+            triangles as f64 / setup.bvh.max(1e-9) / 1e6,
+            setup.upload * 1e3,
+            first.compile_ms,
+            first.wall_ms - first.compile_ms,
+            to_first,
+        );
+    }
+    let (gpu, mirrors) = world.resource::<chiaro::gpu::GpuScene>().memory();
+    println!(
+        "memory: scene on the GPU {}, its CPU copies {}{}",
+        chiaro::scene::memory::human_bytes(gpu),
+        chiaro::scene::memory::human_bytes(mirrors),
+        chiaro::scene::memory::peak_resident()
+            .map(|peak| format!(
+                ", peak resident {}",
+                chiaro::scene::memory::human_bytes(peak)
+            ))
+            .unwrap_or_default()
     );
     let timed = &output.times[output.times.len() / 2..];
     let clock = match timed.first() {

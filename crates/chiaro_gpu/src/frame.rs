@@ -432,7 +432,9 @@ impl Frame {
         input: &FrameInput,
     ) -> PassTimes {
         let (device, queue) = (&context.device, &context.queue);
+        let start = std::time::Instant::now();
         self.features = self.scene_passes.specialize(device, input);
+        let compile_ms = start.elapsed().as_secs_f64() * 1e3;
         self.write_params(queue, camera, input);
         let run = passes(&input.settings);
         let gpu = self.timer.gpu();
@@ -461,6 +463,8 @@ impl Frame {
         PassTimes {
             passes: run.iter().map(|p| p.name()).zip(millis).collect(),
             gpu_timestamps: gpu,
+            compile_ms,
+            wall_ms: start.elapsed().as_secs_f64() * 1e3,
         }
     }
 }

@@ -49,3 +49,4 @@ pub use renderer::{GbufferImage, RenderError, RenderOutput, RenderSettings, Rend
 pub use settings::{DenoiseSettings, FrameSettings, RenderMode, SettingsError};
 pub use shaders::{ShaderError, compose};
 pub use specialization::{PipelineChoice, PipelineFeatures};
+pub use timing::{PassTimes, SetupTimes};

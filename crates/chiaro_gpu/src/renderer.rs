@@ -18,7 +18,7 @@ use crate::readback::{ReadbackError, read_hdr, read_texture};
 use crate::settings::{FrameSettings, LightSampling, SettingsError};
 use crate::shaders::ShaderError;
 use crate::still_view::Stillness;
-use crate::timing::PassTimes;
+use crate::timing::{PassTimes, SetupTimes};
 
 /// Why a render failed.
 #[derive(Debug, Error)]
@@ -165,6 +165,7 @@ pub struct Renderer {
     stillness: Stillness,
     poison: bool,
     background_compile: bool,
+    setup: Option<SetupTimes>,
 }
 
 impl Renderer {
@@ -183,6 +184,7 @@ impl Renderer {
             stillness: Stillness::default(),
             poison: false,
             background_compile: false,
+            setup: None,
         }
     }
 
@@ -197,6 +199,13 @@ impl Renderer {
     /// stalls on an edit), or before the frame (off, the default: every image is exact).
     pub fn compile_in_background(&mut self, on: bool) {
         self.background_compile = on;
+    }
+
+    /// Where the setup of the last new world or size went (its first run of the scene
+    /// systems: BVH build and upload); `None` before any, or when the app runs the systems
+    /// itself ([`Renderer::render_frame`]).
+    pub fn setup_times(&self) -> Option<SetupTimes> {
+        self.setup
     }
 
     fn schedule() -> Schedule {
@@ -329,7 +338,15 @@ impl Renderer {
             .is_none_or(|f| (f.targets.width, f.targets.height) != (width, height));
         if resized {
             if own_systems {
+                let start = std::time::Instant::now();
                 self.schedule.run(world);
+                self.setup = Some(SetupTimes {
+                    systems: start.elapsed().as_secs_f64(),
+                    bvh: world
+                        .get_resource::<chiaro_bvh::BvhStats>()
+                        .map_or(0.0, |s| s.last_work_seconds),
+                    upload: world.resource::<GpuScene>().last_seconds,
+                });
             }
             // A new size keeps the scene passes and every pipeline they compiled.
             let scene_passes = match self.frame.take() {

@@ -10,6 +10,24 @@ pub struct PassTimes {
     pub passes: Vec<(&'static str, f64)>,
     /// True when measured by GPU timestamps, false by the wall clock.
     pub gpu_timestamps: bool,
+    /// Milliseconds spent building pipelines for this frame (shader compilation: the first
+    /// frame, or a frame whose scene features changed; 0 otherwise).
+    pub compile_ms: f64,
+    /// Milliseconds of wall clock from the frame's start to its times being read back: the
+    /// frame's latency on the CPU, pipelines built included.
+    pub wall_ms: f64,
+}
+
+/// Where the setup of a render went: the first run of the scene systems for a new world or
+/// size, before any frame (see [`crate::Renderer::setup_times`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SetupTimes {
+    /// Seconds the scene systems took in all.
+    pub systems: f64,
+    /// Of which building the BVHs.
+    pub bvh: f64,
+    /// Of which uploading the scene to the GPU (its tables gathered and written).
+    pub upload: f64,
 }
 
 impl PassTimes {

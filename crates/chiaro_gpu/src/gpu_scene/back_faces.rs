@@ -31,18 +31,23 @@ pub fn closed_bounds(positions: &[Vec3], indices: &[u32]) -> Option<ClosedBounds
     if indices.is_empty() || !indices.len().is_multiple_of(3) {
         return None;
     }
-    // Weld corners by exact position.
+    // Weld corners by exact position, each vertex looked up once.
+    const UNSEEN: u32 = u32::MAX;
     let mut welded: HashMap<[u32; 3], u32> = HashMap::new();
+    let mut weld_of_vertex = vec![UNSEEN; positions.len()];
     let mut points = Vec::new();
     let mut ids = Vec::with_capacity(indices.len());
     for &i in indices {
-        let p = *positions.get(i as usize)?;
-        let next = points.len() as u32;
-        let id = *welded.entry(p.to_array().map(f32::to_bits)).or_insert(next);
-        if id == next {
-            points.push(p);
+        let slot = weld_of_vertex.get_mut(i as usize)?;
+        if *slot == UNSEEN {
+            let p = positions[i as usize];
+            let next = points.len() as u32;
+            *slot = *welded.entry(p.to_array().map(f32::to_bits)).or_insert(next);
+            if *slot == next {
+                points.push(p);
+            }
         }
-        ids.push(id);
+        ids.push(*slot);
     }
     // Every directed edge once, and its reverse once.
     let mut edges: Vec<u64> = Vec::with_capacity(ids.len());

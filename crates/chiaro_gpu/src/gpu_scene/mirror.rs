@@ -68,30 +68,52 @@ pub struct MirrorBuffer<T: Pod> {
 
 impl<T: Pod + PartialEq> MirrorBuffer<T> {
     /// An empty buffer with room for one element (bindings may not be empty).
-    pub fn new(device: &wgpu::Device, label: &'static str, usage: wgpu::BufferUsages) -> Self {
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        label: &'static str,
+        usage: wgpu::BufferUsages,
+    ) -> Self {
         let usage = usage | wgpu::BufferUsages::COPY_DST;
         Self {
             label,
             usage,
-            buffer: Self::allocate(device, label, usage, 1),
+            buffer: Self::allocate(device, queue, label, usage, 1, &[]),
             capacity: 1,
             cpu: Vec::new(),
             overflow: None,
         }
     }
 
+    /// A buffer of `capacity` elements holding `data` (at most that many) at its start.
     fn allocate(
         device: &wgpu::Device,
+        queue: &wgpu::Queue,
         label: &'static str,
         usage: wgpu::BufferUsages,
         capacity: usize,
+        data: &[T],
     ) -> wgpu::Buffer {
-        device.create_buffer(&wgpu::BufferDescriptor {
+        // Whole 16-byte blocks: mapping at creation wants a multiple of 4.
+        let size = (capacity.max(1) * size_of::<T>())
+            .max(16)
+            .next_multiple_of(16);
+        let buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some(label),
-            size: (capacity.max(1) * size_of::<T>()).max(16) as u64,
+            size: size as u64,
             usage,
-            mapped_at_creation: false,
-        })
+            mapped_at_creation: true,
+        });
+        let bytes: &[u8] = bytemuck::cast_slice(data);
+        if !bytes.is_empty() {
+            match buffer.slice(..bytes.len() as u64).get_mapped_range_mut() {
+                Ok(mut mapped) => mapped.copy_from_slice(bytes),
+                // Not expected of a buffer mapped at creation: written through the queue.
+                Err(_) => queue.write_buffer(&buffer, 0, bytes),
+            }
+        }
+        buffer.unmap();
+        buffer
     }
 
     /// The GPU buffer (replaced when it grows: see [`MirrorBuffer::update`]).
@@ -102,6 +124,12 @@ impl<T: Pod + PartialEq> MirrorBuffer<T> {
     /// What the GPU buffer holds.
     pub fn contents(&self) -> &[T] {
         &self.cpu
+    }
+
+    /// Bytes (GPU buffer, CPU copy) this mirror holds.
+    pub fn bytes(&self) -> (u64, u64) {
+        let cpu = self.cpu.capacity() * size_of::<T>();
+        (self.buffer.size(), cpu as u64)
     }
 
     /// Why the last update wrote nothing, if `data` was larger than one binding may be (kept
@@ -142,12 +170,18 @@ impl<T: Pod + PartialEq> MirrorBuffer<T> {
         }
         self.overflow = None;
         if data.len() > self.capacity {
-            // Grown by powers of two, but never past what one binding may hold.
-            self.capacity = data.len().next_power_of_two().min(most).max(data.len());
-            self.buffer = Self::allocate(device, self.label, self.usage, self.capacity);
+            // A first fill (the scene as loaded) gets the room it needs; growth after that,
+            // powers of two, but never past what one binding may hold.
+            self.capacity = if self.cpu.is_empty() {
+                data.len()
+            } else {
+                data.len().next_power_of_two().min(most).max(data.len())
+            };
+            // Written while mapped at creation: no staging copy (on a CPU adapter, none at all).
+            self.buffer =
+                Self::allocate(device, queue, self.label, self.usage, self.capacity, data);
             stats.allocations += 1;
             if !data.is_empty() {
-                queue.write_buffer(&self.buffer, 0, bytemuck::cast_slice(data));
                 stats.record(self.label, std::mem::size_of_val(data) as u64);
             }
             self.cpu = data.to_vec();

@@ -137,6 +137,8 @@ pub struct GpuScene {
     pub total: UploadStats,
     /// The uploads of the last [`upload_gpu_scene`] run.
     pub last: UploadStats,
+    /// Wall-clock seconds the last [`upload_gpu_scene`] run took.
+    pub last_seconds: f64,
     /// Whether the last [`upload_gpu_scene`] run saw the scene change: anything but the
     /// previous transforms catching up the frame after an instance moved (which feed motion
     /// vectors and change no image).
@@ -196,30 +198,36 @@ impl GpuScene {
             blas_nodes: MirrorTexels::new(d, "scene blas nodes"),
             triangles: MirrorTexels::new(d, "scene blas triangles"),
             tlas_nodes: MirrorTexels::new(d, "scene tlas nodes"),
-            instances: MirrorBuffer::new(d, "scene instances", STORAGE | VERTEX),
+            instances: MirrorBuffer::new(d, queue, "scene instances", STORAGE | VERTEX),
             instance_texels: MirrorTexels::new(d, "scene instance texels"),
             vertices: MirrorTexels::new(d, "scene vertices"),
             indices: MirrorTexels::new(d, "scene indices"),
-            raster_vertices: MirrorBuffer::new(d, "raster vertices", VERTEX),
-            raster_indices: MirrorBuffer::new(d, "raster indices", wgpu::BufferUsages::INDEX),
+            raster_vertices: MirrorBuffer::new(d, queue, "raster vertices", VERTEX),
+            raster_indices: MirrorBuffer::new(
+                d,
+                queue,
+                "raster indices",
+                wgpu::BufferUsages::INDEX,
+            ),
             closed_bounds: Vec::new(),
             cullable_boxes: Vec::new(),
-            meshes: MirrorBuffer::new(d, "scene meshes", STORAGE),
+            meshes: MirrorBuffer::new(d, queue, "scene meshes", STORAGE),
             materials: MirrorTexels::new(d, "scene materials"),
-            texels: MirrorBuffer::new(d, "scene texels", STORAGE),
-            textures: MirrorBuffer::new(d, "scene textures", STORAGE),
+            texels: MirrorBuffer::new(d, queue, "scene texels", STORAGE),
+            textures: MirrorBuffer::new(d, queue, "scene textures", STORAGE),
             lights: MirrorTexels::new(d, "scene lights"),
             area_lights: MirrorTexels::new(d, "scene area lights"),
-            instance_extras: MirrorBuffer::new(d, "scene instance extras", STORAGE | VERTEX),
+            instance_extras: MirrorBuffer::new(d, queue, "scene instance extras", STORAGE | VERTEX),
             env_texels: MirrorTexels::new(d, "scene environment texels"),
             env_table: MirrorTexels::new(d, "scene environment table"),
-            info_buffer: MirrorBuffer::new(d, "scene info", STORAGE),
+            info_buffer: MirrorBuffer::new(d, queue, "scene info", STORAGE),
             light_tree: MirrorTexels::new(d, "scene light tree"),
             area_tree: FlatTree::default(),
             punctual_tree: FlatTree::default(),
             info: GpuSceneInfo::default(),
             total: UploadStats::default(),
             last: UploadStats::default(),
+            last_seconds: 0.0,
             uploaded: false,
             content_changed: false,
             motion_pending: false,
@@ -252,6 +260,35 @@ impl GpuScene {
     /// Whether the buffers live on `context`'s device.
     pub fn made_by(&self, context: &crate::GpuContext) -> bool {
         self.context == context.id
+    }
+
+    /// Bytes the scene's buffers take: (on the GPU, in their CPU copies).
+    pub fn memory(&self) -> (u64, u64) {
+        let parts = [
+            self.blas_nodes.bytes(),
+            self.triangles.bytes(),
+            self.tlas_nodes.bytes(),
+            self.instances.bytes(),
+            self.instance_texels.bytes(),
+            self.vertices.bytes(),
+            self.indices.bytes(),
+            self.raster_vertices.bytes(),
+            self.raster_indices.bytes(),
+            self.meshes.bytes(),
+            self.materials.bytes(),
+            self.texels.bytes(),
+            self.textures.bytes(),
+            self.lights.bytes(),
+            self.area_lights.bytes(),
+            self.instance_extras.bytes(),
+            self.env_texels.bytes(),
+            self.env_table.bytes(),
+            self.info_buffer.bytes(),
+            self.light_tree.bytes(),
+        ];
+        parts
+            .iter()
+            .fold((0, 0), |(g, c), (pg, pc)| (g + pg, c + pc))
     }
 
     /// The instances as uploaded.

@@ -104,6 +104,12 @@ impl<T: Pod + PartialEq> MirrorTexels<T> {
         &self.cpu
     }
 
+    /// Bytes (GPU texture, CPU copy) this mirror holds.
+    pub fn bytes(&self) -> (u64, u64) {
+        let gpu = u64::from(TEXEL_ROW_WIDTH) * u64::from(self.rows) * TEXEL_BYTES as u64;
+        (gpu, (self.cpu.capacity() * size_of::<T>()) as u64)
+    }
+
     /// Why the last update wrote nothing, if it overflowed.
     pub fn overflow(&self) -> Option<&TexelOverflow> {
         self.overflow.as_ref()
@@ -135,7 +141,13 @@ impl<T: Pod + PartialEq> MirrorTexels<T> {
         let max_rows = device.limits().max_texture_dimension_2d;
         let rows = rows_for(self.label, data.len(), Self::TEXELS, max_rows)?;
         if rows > self.rows {
-            self.rows = rows.next_power_of_two().min(max_rows);
+            // A first fill (the scene as loaded) gets the rows it needs; growth after that,
+            // powers of two.
+            self.rows = if self.cpu.is_empty() {
+                rows
+            } else {
+                rows.next_power_of_two().min(max_rows)
+            };
             self.texture = Self::allocate(device, self.label, self.rows);
             self.view = self
                 .texture

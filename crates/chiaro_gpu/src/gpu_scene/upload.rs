@@ -4,6 +4,7 @@
 use bevy_ecs::prelude::*;
 use chiaro_bvh::{GpuBvhBuffers, SceneBvh, TlasNode};
 use chiaro_scene::{Environment, GlobalTransform, Light, Materials, Meshes, Textures};
+use rayon::prelude::*;
 
 use super::layout::{self, GpuInstanceExtra};
 use super::light_trees::{self, FlatTree};
@@ -48,6 +49,7 @@ pub fn upload_gpu_scene(
     let (Some(mut scene), Some(bvh)) = (scene, bvh) else {
         return;
     };
+    let start = std::time::Instant::now();
     let scene = scene.bypass_change_detection();
     let fresh = !scene.uploaded;
     let mut stats = UploadStats::default();
@@ -97,9 +99,10 @@ pub fn upload_gpu_scene(
         put!(scene, stats, realloc, raster_vertices, &raster_vertices);
         put!(scene, stats, realloc, raster_indices, &raster_indices);
         put!(scene, stats, realloc, meshes, &table);
-        scene.closed_bounds = meshes_ref
-            .iter()
-            .map(|(_, mesh)| back_faces::closed_bounds(mesh.positions(), mesh.indices()))
+        let all: Vec<&chiaro_scene::Mesh> = meshes_ref.iter().map(|(_, mesh)| mesh).collect();
+        scene.closed_bounds = all
+            .par_iter()
+            .map(|mesh| back_faces::closed_bounds(mesh.positions(), mesh.indices()))
             .collect();
     }
     let materials_changed = fresh || materials.as_ref().is_some_and(|m| m.is_changed());
@@ -212,6 +215,7 @@ pub fn upload_gpu_scene(
         *scene.total.per_buffer.entry(label).or_default() += bytes;
     }
     scene.last = stats;
+    scene.last_seconds = start.elapsed().as_secs_f64();
 }
 
 /// Rebuilds the per-instance extras: the previous frame's transforms (what was current at the

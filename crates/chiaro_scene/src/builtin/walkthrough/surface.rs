@@ -46,11 +46,6 @@ impl Grid {
         self
     }
 
-    /// Triangles it makes.
-    pub fn triangles(&self) -> usize {
-        2 * self.nu as usize * self.nv as usize
-    }
-
     /// Appends the surface `p` (defined a little outside the unit square too, for the
     /// derivatives at its edges) to `data`: positions, normals, tangents, UVs and indices.
     pub fn append(&self, data: &mut MeshData, p: impl Fn(f32, f32) -> Vec3) {
@@ -166,7 +161,7 @@ pub(super) mod tests {
         let grid = Grid::new(3, 2).textured(Vec2::new(2.0, 1.0));
         grid.append(&mut data, |u, v| Vec3::new(u, 0.0, -v));
         assert_eq!(data.positions.len(), 12);
-        assert_eq!(data.indices.as_ref().unwrap().len(), 3 * grid.triangles());
+        assert_eq!(data.indices.as_ref().unwrap().len(), 3 * 2 * 3 * 2);
         for (n, t) in data
             .normals
             .as_ref()
