@@ -6,6 +6,8 @@ use std::ops::Range;
 
 use bytemuck::Pod;
 
+use super::cpu_copy::CpuCopy;
+
 /// Bytes and writes uploaded, in total and per buffer (by label).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct UploadStats {
@@ -62,17 +64,39 @@ pub struct MirrorBuffer<T: Pod> {
     usage: wgpu::BufferUsages,
     buffer: wgpu::Buffer,
     capacity: usize,
-    cpu: Vec<T>,
+    cpu: CpuCopy<T>,
     overflow: Option<BufferOverflow>,
 }
 
 impl<T: Pod + PartialEq> MirrorBuffer<T> {
-    /// An empty buffer with room for one element (bindings may not be empty).
+    /// An empty buffer with room for one element (bindings may not be empty), its contents
+    /// kept on the CPU.
     pub fn new(
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         label: &'static str,
         usage: wgpu::BufferUsages,
+    ) -> Self {
+        Self::with_copy(device, queue, label, usage, CpuCopy::new(false))
+    }
+
+    /// [`MirrorBuffer::new`] for bulk data never read back: the CPU keeps fingerprints of its
+    /// blocks, not its contents ([`CpuCopy::Blocks`]).
+    pub fn bulk(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        label: &'static str,
+        usage: wgpu::BufferUsages,
+    ) -> Self {
+        Self::with_copy(device, queue, label, usage, CpuCopy::new(true))
+    }
+
+    fn with_copy(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        label: &'static str,
+        usage: wgpu::BufferUsages,
+        cpu: CpuCopy<T>,
     ) -> Self {
         let usage = usage | wgpu::BufferUsages::COPY_DST;
         Self {
@@ -80,7 +104,7 @@ impl<T: Pod + PartialEq> MirrorBuffer<T> {
             usage,
             buffer: Self::allocate(device, queue, label, usage, 1, &[]),
             capacity: 1,
-            cpu: Vec::new(),
+            cpu,
             overflow: None,
         }
     }
@@ -121,15 +145,14 @@ impl<T: Pod + PartialEq> MirrorBuffer<T> {
         &self.buffer
     }
 
-    /// What the GPU buffer holds.
+    /// What the GPU buffer holds (empty for a [`MirrorBuffer::bulk`] one).
     pub fn contents(&self) -> &[T] {
-        &self.cpu
+        self.cpu.contents()
     }
 
     /// Bytes (GPU buffer, CPU copy) this mirror holds.
     pub fn bytes(&self) -> (u64, u64) {
-        let cpu = self.cpu.capacity() * size_of::<T>();
-        (self.buffer.size(), cpu as u64)
+        (self.buffer.size(), self.cpu.bytes())
     }
 
     /// Why the last update wrote nothing, if `data` was larger than one binding may be (kept
@@ -172,7 +195,7 @@ impl<T: Pod + PartialEq> MirrorBuffer<T> {
         if data.len() > self.capacity {
             // A first fill (the scene as loaded) gets the room it needs; growth after that,
             // powers of two, but never past what one binding may hold.
-            self.capacity = if self.cpu.is_empty() {
+            self.capacity = if self.cpu.len() == 0 {
                 data.len()
             } else {
                 data.len().next_power_of_two().min(most).max(data.len())
@@ -184,16 +207,14 @@ impl<T: Pod + PartialEq> MirrorBuffer<T> {
             if !data.is_empty() {
                 stats.record(self.label, std::mem::size_of_val(data) as u64);
             }
-            self.cpu = data.to_vec();
+            self.cpu.replace(data);
             return true;
         }
-        for range in changed_ranges(&self.cpu, data) {
+        for range in self.cpu.update(data) {
             let bytes: &[u8] = bytemuck::cast_slice(&data[range.clone()]);
             queue.write_buffer(&self.buffer, (range.start * element) as u64, bytes);
             stats.record(self.label, bytes.len() as u64);
         }
-        self.cpu.clear();
-        self.cpu.extend_from_slice(data);
         false
     }
 }

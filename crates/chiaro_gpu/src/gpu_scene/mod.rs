@@ -50,6 +50,7 @@
 //! (docs/experiments/lavapipe-storage-loads.md).
 
 pub mod back_faces;
+mod cpu_copy;
 mod gather;
 pub mod layout;
 pub mod light_trees;
@@ -195,15 +196,15 @@ impl GpuScene {
             bind_group: None,
             generation: 0,
             context: context.id,
-            blas_nodes: MirrorTexels::new(d, "scene blas nodes"),
-            triangles: MirrorTexels::new(d, "scene blas triangles"),
+            blas_nodes: MirrorTexels::bulk(d, "scene blas nodes"),
+            triangles: MirrorTexels::bulk(d, "scene blas triangles"),
             tlas_nodes: MirrorTexels::new(d, "scene tlas nodes"),
             instances: MirrorBuffer::new(d, queue, "scene instances", STORAGE | VERTEX),
             instance_texels: MirrorTexels::new(d, "scene instance texels"),
-            vertices: MirrorTexels::new(d, "scene vertices"),
-            indices: MirrorTexels::new(d, "scene indices"),
-            raster_vertices: MirrorBuffer::new(d, queue, "raster vertices", VERTEX),
-            raster_indices: MirrorBuffer::new(
+            vertices: MirrorTexels::bulk(d, "scene vertices"),
+            indices: MirrorTexels::bulk(d, "scene indices"),
+            raster_vertices: MirrorBuffer::bulk(d, queue, "raster vertices", VERTEX),
+            raster_indices: MirrorBuffer::bulk(
                 d,
                 queue,
                 "raster indices",

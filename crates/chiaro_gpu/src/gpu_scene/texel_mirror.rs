@@ -14,7 +14,8 @@
 
 use bytemuck::Pod;
 
-use super::mirror::{UploadStats, changed_ranges};
+use super::cpu_copy::CpuCopy;
+use super::mirror::UploadStats;
 
 /// Texels in a row of every texel array: 2^11, the least `max_texture_dimension_2d` a device
 /// may have, so that the row is the same on every device and the shaders can hold it as a
@@ -50,7 +51,7 @@ pub struct MirrorTexels<T: Pod> {
     texture: wgpu::Texture,
     view: wgpu::TextureView,
     rows: u32,
-    cpu: Vec<T>,
+    cpu: CpuCopy<T>,
     overflow: Option<TexelOverflow>,
 }
 
@@ -64,15 +65,25 @@ impl<T: Pod + PartialEq> MirrorTexels<T> {
         size_of::<T>() / TEXEL_BYTES
     };
 
-    /// An empty array of one row (bindings may not be empty).
+    /// An empty array of one row (bindings may not be empty), its contents kept on the CPU.
     pub fn new(device: &wgpu::Device, label: &'static str) -> Self {
+        Self::with_copy(device, label, CpuCopy::new(false))
+    }
+
+    /// [`MirrorTexels::new`] for bulk data never read back: the CPU keeps fingerprints of its
+    /// blocks, not its contents ([`CpuCopy::Blocks`]).
+    pub fn bulk(device: &wgpu::Device, label: &'static str) -> Self {
+        Self::with_copy(device, label, CpuCopy::new(true))
+    }
+
+    fn with_copy(device: &wgpu::Device, label: &'static str, cpu: CpuCopy<T>) -> Self {
         let texture = Self::allocate(device, label, 1);
         Self {
             label,
             view: texture.create_view(&wgpu::TextureViewDescriptor::default()),
             texture,
             rows: 1,
-            cpu: Vec::new(),
+            cpu,
             overflow: None,
         }
     }
@@ -99,15 +110,15 @@ impl<T: Pod + PartialEq> MirrorTexels<T> {
         &self.view
     }
 
-    /// What the texture holds.
+    /// What the texture holds (empty for a [`MirrorTexels::bulk`] one).
     pub fn contents(&self) -> &[T] {
-        &self.cpu
+        self.cpu.contents()
     }
 
     /// Bytes (GPU texture, CPU copy) this mirror holds.
     pub fn bytes(&self) -> (u64, u64) {
         let gpu = u64::from(TEXEL_ROW_WIDTH) * u64::from(self.rows) * TEXEL_BYTES as u64;
-        (gpu, (self.cpu.capacity() * size_of::<T>()) as u64)
+        (gpu, self.cpu.bytes())
     }
 
     /// Why the last update wrote nothing, if it overflowed.
@@ -143,7 +154,7 @@ impl<T: Pod + PartialEq> MirrorTexels<T> {
         if rows > self.rows {
             // A first fill (the scene as loaded) gets the rows it needs; growth after that,
             // powers of two.
-            self.rows = if self.cpu.is_empty() {
+            self.rows = if self.cpu.len() == 0 {
                 rows
             } else {
                 rows.next_power_of_two().min(max_rows)
@@ -154,14 +165,12 @@ impl<T: Pod + PartialEq> MirrorTexels<T> {
                 .create_view(&wgpu::TextureViewDescriptor::default());
             stats.allocations += 1;
             self.write(queue, data, 0..data.len(), stats);
-            self.cpu = data.to_vec();
+            self.cpu.replace(data);
             return Ok(true);
         }
-        for range in changed_ranges(&self.cpu, data) {
+        for range in self.cpu.update(data) {
             self.write(queue, data, range, stats);
         }
-        self.cpu.clear();
-        self.cpu.extend_from_slice(data);
         Ok(false)
     }
 
