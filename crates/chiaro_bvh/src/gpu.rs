@@ -79,8 +79,35 @@ pub struct GpuBvhBuffers {
 impl GpuBvhBuffers {
     /// Flattens `bvh`. Only BLASes of meshes that some instance uses are included.
     pub fn from_scene(bvh: &SceneBvh) -> Self {
+        Self::flatten(bvh, true)
+    }
+
+    /// The BLASes [`GpuBvhBuffers::from_scene`] lays out, in order: each one's mesh and
+    /// fingerprint. While it stays the same (instances only moved), so do the BLAS nodes and
+    /// triangles, and [`GpuBvhBuffers::without_blases`] gives the rest.
+    pub fn blas_placement(bvh: &SceneBvh) -> Vec<(u32, u64)> {
+        let mut placed = vec![false; bvh.blases.len()];
+        let mut order = Vec::new();
+        for record in bvh.instances() {
+            let mesh = record.mesh.0 as usize;
+            if let (false, Some(blas)) = (placed[mesh], bvh.blas(record.mesh)) {
+                placed[mesh] = true;
+                order.push((record.mesh.0, blas.fingerprint()));
+            }
+        }
+        order
+    }
+
+    /// [`GpuBvhBuffers::from_scene`] with the BLAS nodes and triangles left empty (the
+    /// instances point where they would be): for a scene whose instances only moved.
+    pub fn without_blases(bvh: &SceneBvh) -> Self {
+        Self::flatten(bvh, false)
+    }
+
+    fn flatten(bvh: &SceneBvh, with_blases: bool) -> Self {
         let mut out = Self::default();
         let mut root_of = vec![u32::MAX; bvh.blases.len()];
+        let (mut node_count, mut triangle_count) = (0u32, 0u32);
         for record in bvh.instances() {
             let mesh = record.mesh.0 as usize;
             if root_of[mesh] != u32::MAX {
@@ -89,16 +116,19 @@ impl GpuBvhBuffers {
             let Some(blas) = bvh.blas(record.mesh) else {
                 continue;
             };
-            let node_base = out.blas_nodes.len() as u32;
-            let triangle_base = out.triangles.len() as u32;
+            let (node_base, triangle_base) = (node_count, triangle_count);
             root_of[mesh] = node_base;
-            out.blas_nodes
-                .extend(blas.nodes().iter().map(|n| CwBvhNode {
-                    child_base_idx: n.child_base_idx + node_base,
-                    primitive_base_idx: n.primitive_base_idx + triangle_base,
-                    ..*n
-                }));
-            out.triangles.extend_from_slice(blas.triangles());
+            node_count += blas.nodes().len() as u32;
+            triangle_count += blas.triangles().len() as u32;
+            if with_blases {
+                out.blas_nodes
+                    .extend(blas.nodes().iter().map(|n| CwBvhNode {
+                        child_base_idx: n.child_base_idx + node_base,
+                        primitive_base_idx: n.primitive_base_idx + triangle_base,
+                        ..*n
+                    }));
+                out.triangles.extend_from_slice(blas.triangles());
+            }
         }
         out.tlas_nodes = bvh.tlas.nodes.clone();
         out.instances = bvh

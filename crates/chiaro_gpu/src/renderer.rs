@@ -166,6 +166,7 @@ pub struct Renderer {
     poison: bool,
     background_compile: bool,
     setup: Option<SetupTimes>,
+    systems_seconds: f64,
 }
 
 impl Renderer {
@@ -185,6 +186,7 @@ impl Renderer {
             poison: false,
             background_compile: false,
             setup: None,
+            systems_seconds: 0.0,
         }
     }
 
@@ -206,6 +208,13 @@ impl Renderer {
     /// itself ([`Renderer::render_frame`]).
     pub fn setup_times(&self) -> Option<SetupTimes> {
         self.setup
+    }
+
+    /// Wall-clock seconds the scene systems (animation, skinning, BVH update, upload) took
+    /// before the last frame [`Renderer::render`] or [`Renderer::accumulate`] drew: what the
+    /// scene's changes cost the CPU that frame.
+    pub fn last_systems_seconds(&self) -> f64 {
+        self.systems_seconds
     }
 
     fn schedule() -> Schedule {
@@ -267,7 +276,9 @@ impl Renderer {
         let mut times = Vec::new();
         for k in 0..frames {
             before_frame(world, k);
+            let start = std::time::Instant::now();
             self.schedule.run(world);
+            self.systems_seconds = start.elapsed().as_secs_f64();
             times.push(self.draw(world, settings)?);
         }
         Ok(times)

@@ -8,6 +8,7 @@
 //! Results go to `results.json`, `results.md` and one error-against-time plot per scene (see
 //! [`write_outputs`]).
 
+pub mod animation_run;
 pub mod camera_path;
 mod plot;
 mod reference_cache;
@@ -139,6 +140,7 @@ pub fn default_scenes(shared_scenes: &Path) -> Vec<BenchScene> {
         "builtin:hard-cases",
         "builtin:instances",
         "builtin:many-lights",
+        "builtin:walkthrough",
     ]
     .map(BenchScene::builtin)
     .to_vec();
@@ -501,6 +503,13 @@ pub fn run_bench(
                 &reference.image,
             )?);
         }
+        if animation_run::animated(&world) {
+            progress(BenchProgress::Run {
+                scene: scene.label(),
+                config: animation_run::ANIMATED_CONFIG.into(),
+            });
+        }
+        let animation = animation_run::measure_animation(renderer, &mut world, scene, settings)?;
         results.scenes.push(SceneResult {
             scene: scene.label(),
             reference_spp: settings.reference_spp,
@@ -511,6 +520,7 @@ pub fn run_bench(
                 reference.seconds
             },
             runs,
+            animation,
         });
     }
     Ok(results)

@@ -126,7 +126,14 @@ pub fn converged_reference(
         ReferenceRenderer::Gpu => format!("{} {}", drawn_by.name(), renderer.context.describe()),
     };
     let held = SceneInfo::gather(world);
-    let key = cache_key(scene, &held, (width, height, spp), &renderer_key);
+    // A pose of the scene's animations is part of what it holds.
+    let time = world
+        .get_resource::<chiaro_scene::Time>()
+        .map(|t| t.seconds);
+    let key = format!(
+        "{} at {time:?}",
+        cache_key(scene, &held, (width, height, spp), &renderer_key)
+    );
     let path = cache_path(cache_dir, &key);
     let sidecar_path = path.with_extension("json");
     if let (Ok(text), true) = (fs::read_to_string(&sidecar_path), path.exists())

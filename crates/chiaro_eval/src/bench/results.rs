@@ -38,6 +38,83 @@ pub struct SceneResult {
     pub reference_seconds: f64,
     /// One per configuration.
     pub runs: Vec<RunResult>,
+    /// The realtime frame while the scene's animations play, for a scene that has any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub animation: Option<AnimationRun>,
+}
+
+/// The realtime frame on an animated scene as it plays ([`super::animation_run`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct AnimationRun {
+    /// Frames per second of scene time.
+    pub fps: f64,
+    /// Wall time per frame (scene systems, recording, submission, completion), percentiles,
+    /// milliseconds.
+    pub frame_ms_p50: f64,
+    /// The 95th percentile.
+    pub frame_ms_p95: f64,
+    /// The 99th percentile.
+    pub frame_ms_p99: f64,
+    /// Median CPU time per frame of the scene systems: animation, skinning, BVH update and
+    /// upload, milliseconds.
+    pub systems_ms_median: f64,
+    /// Error at each checkpoint against the reference posed at its time.
+    pub checkpoints: Vec<PoseCheckpoint>,
+    /// Mean relMSE between consecutive frames at the checkpoints (after the first).
+    pub flicker: Option<f64>,
+    /// Mean relMSE between the converged references of the same consecutive poses.
+    pub reference_flicker: Option<f64>,
+}
+
+/// The error of an animated run at one checkpoint.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct PoseCheckpoint {
+    /// Frames rendered.
+    pub frames: u32,
+    /// The scene time shown, seconds.
+    pub scene_seconds: f64,
+    /// relMSE against the reference at that time.
+    pub rel_mse: f64,
+    /// Mean LDR-FLIP against it.
+    pub flip_mean: f64,
+    /// That reference's own noise.
+    pub reference_noise: f64,
+}
+
+impl AnimationRun {
+    /// The run as a paragraph of markdown.
+    fn to_markdown(&self) -> String {
+        let errors: Vec<String> = self
+            .checkpoints
+            .iter()
+            .map(|c| {
+                format!(
+                    "@{} ({:.2} s) {:.3e} / {:.4}",
+                    c.frames, c.scene_seconds, c.rel_mse, c.flip_mean
+                )
+            })
+            .collect();
+        let flicker = match (self.flicker, self.reference_flicker) {
+            (Some(f), Some(r)) => format!(
+                " Temporal stability: consecutive frames differ by relMSE {f:.3e} on average, \
+                 consecutive converged references by {r:.3e}."
+            ),
+            _ => String::new(),
+        };
+        format!(
+            "\n`{}`: the realtime frame while the scene's animations play at {} frames a \
+             second of scene time. Frame time p50 {:.2} ms, p95 {:.2} ms, p99 {:.2} ms; the \
+             scene systems (animation, skinning, BVH update, upload) {:.2} ms a frame (median). \
+             relMSE / FLIP against the reference posed at each checkpoint's time: {}.{flicker}\n",
+            super::animation_run::ANIMATED_CONFIG,
+            self.fps,
+            self.frame_ms_p50,
+            self.frame_ms_p95,
+            self.frame_ms_p99,
+            self.systems_ms_median,
+            errors.join("; "),
+        )
+    }
 }
 
 /// One configuration's figures on one scene.
@@ -203,6 +280,9 @@ impl BenchResults {
             if let Some(line) = scene.specialization_summary() {
                 md += &format!("\n{line}\n");
             }
+            if let Some(animation) = &scene.animation {
+                md += &animation.to_markdown();
+            }
         }
         md
     }
@@ -261,6 +341,22 @@ mod tests {
                     fast.config = "fast".into();
                     fast
                 }],
+                animation: Some(AnimationRun {
+                    fps: 30.0,
+                    frame_ms_p50: 10.0,
+                    frame_ms_p95: 12.5,
+                    frame_ms_p99: 20.0,
+                    systems_ms_median: 1.25,
+                    checkpoints: vec![PoseCheckpoint {
+                        frames: 4,
+                        scene_seconds: 0.1,
+                        rel_mse: 0.5,
+                        flip_mean: 0.25,
+                        reference_noise: 1e-3,
+                    }],
+                    flicker: Some(0.02),
+                    reference_flicker: Some(0.01),
+                }),
             }],
         };
         assert_eq!(results.scenes[0].equal_time_budget(), Some(2.0));
@@ -268,5 +364,11 @@ mod tests {
         assert!(md.contains("| x | 1.00 |"), "{md}");
         assert!(md.contains("| fast | 1.00 |"), "{md}");
         assert!(md.contains("x 5.000e-1; fast 1.000e0"), "{md}");
+        assert!(
+            md.contains("p50 10.00 ms, p95 12.50 ms, p99 20.00 ms"),
+            "{md}"
+        );
+        assert!(md.contains("@4 (0.10 s) 5.000e-1 / 0.2500"), "{md}");
+        assert!(md.contains("by relMSE 2.000e-2 on average"), "{md}");
     }
 }

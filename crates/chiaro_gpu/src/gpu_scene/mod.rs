@@ -148,6 +148,9 @@ pub struct GpuScene {
     motion_pending: bool,
     current_transforms: Vec<[[f32; 4]; 3]>,
     area_first: Vec<u32>,
+    /// The BLASes the uploaded nodes and triangles hold
+    /// ([`chiaro_bvh::GpuBvhBuffers::blas_placement`]).
+    blas_placement: Vec<(u32, u64)>,
     mesh_runs: Vec<(u32, std::ops::Range<u32>)>,
 }
 
@@ -234,6 +237,7 @@ impl GpuScene {
             motion_pending: false,
             current_transforms: Vec::new(),
             area_first: Vec::new(),
+            blas_placement: Vec::new(),
             mesh_runs: Vec::new(),
         }
     }

@@ -63,15 +63,25 @@ pub fn upload_gpu_scene(
 
     let bvh_changed = fresh || bvh.is_changed();
     if bvh_changed {
-        let mut flat = GpuBvhBuffers::from_scene(&bvh);
+        // Instances that only moved leave the BLAS part as it was: not gathered again.
+        let placement = GpuBvhBuffers::blas_placement(&bvh);
+        let blases_changed = fresh || placement != scene.blas_placement;
+        let mut flat = if blases_changed {
+            GpuBvhBuffers::from_scene(&bvh)
+        } else {
+            GpuBvhBuffers::without_blases(&bvh)
+        };
         if flat.tlas_nodes.is_empty() {
             flat.tlas_nodes.push(TlasNode {
                 child: chiaro_bvh::TLAS_LEAF_BIT | 0x7fff_ffff,
                 ..TlasNode::default()
             });
         }
-        put_texels!(scene, stats, realloc, blas_nodes, &flat.blas_nodes);
-        put_texels!(scene, stats, realloc, triangles, &flat.triangles);
+        if blases_changed {
+            put_texels!(scene, stats, realloc, blas_nodes, &flat.blas_nodes);
+            put_texels!(scene, stats, realloc, triangles, &flat.triangles);
+            scene.blas_placement = placement;
+        }
         put_texels!(scene, stats, realloc, tlas_nodes, &flat.tlas_nodes);
         put_texels!(scene, stats, realloc, instance_texels, &flat.instances);
         put!(scene, stats, realloc, instances, &flat.instances);
