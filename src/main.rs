@@ -34,7 +34,7 @@ struct Cli {
 #[derive(Args)]
 struct SceneArgs {
     /// A .gltf or .glb file, or builtin:NAME (cornell, furnace, hard-cases, instances,
-    /// many-lights), e.g. builtin:instances?n=10000.
+    /// many-lights, walkthrough), e.g. builtin:instances?n=10000.
     scene: String,
     /// Replaces the scene's environment: an equirectangular .hdr or .exr image, or a constant
     /// linear colour R,G,B.
