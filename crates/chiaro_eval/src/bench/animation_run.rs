@@ -14,7 +14,7 @@ use chiaro_scene::{Animations, Time, pose_at};
 use glam::Vec3;
 
 use super::results::{AnimationRun, PoseCheckpoint};
-use super::{BenchError, BenchScene, BenchSettings, converged_reference};
+use super::{BenchError, BenchScene, BenchSettings};
 use crate::metrics::rel_mse;
 use crate::{CompareSettings, HdrImage, compare};
 
@@ -53,14 +53,7 @@ fn reference_at(
 ) -> Result<super::Reference, BenchError> {
     let mut world = scene.load()?;
     pose_at(&mut world, seconds);
-    converged_reference(
-        scene,
-        &mut world,
-        (settings.width, settings.height, settings.reference_spp),
-        settings.reference_renderer,
-        renderer,
-        &settings.cache_dir,
-    )
+    super::scene_reference(renderer, scene, &mut world, settings)
 }
 
 /// Plays `world`'s animations under the realtime frame; `None` for a scene without any.

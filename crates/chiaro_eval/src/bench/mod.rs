@@ -438,6 +438,24 @@ fn measure_path(
     measure(renderer, world, &config, settings, &references, Some(&base))
 }
 
+/// The converged reference of `scene` as `world` holds it (posed, if it is), at the
+/// benchmark's size and sample count, from the cache when it is there.
+fn scene_reference(
+    renderer: &mut Renderer,
+    scene: &BenchScene,
+    world: &mut World,
+    settings: &BenchSettings,
+) -> Result<Reference, BenchError> {
+    converged_reference(
+        scene,
+        world,
+        (settings.width, settings.height, settings.reference_spp),
+        settings.reference_renderer,
+        renderer,
+        &settings.cache_dir,
+    )
+}
+
 /// Runs every configuration on every scene; `progress` hears of each step before it starts.
 pub fn run_bench(
     renderer: &mut Renderer,
@@ -471,14 +489,7 @@ pub fn run_bench(
     for scene in scenes {
         progress(BenchProgress::Reference(scene.label()));
         let mut world = scene.load()?;
-        let reference = converged_reference(
-            scene,
-            &mut world,
-            (settings.width, settings.height, settings.reference_spp),
-            settings.reference_renderer,
-            renderer,
-            &settings.cache_dir,
-        )?;
+        let reference = scene_reference(renderer, scene, &mut world, settings)?;
         let mut runs = Vec::new();
         let statics = vec![&reference.image; settings.checkpoints.len()];
         for config in configs {

@@ -30,7 +30,7 @@ use crate::components::{Camera, Light, LightKind, Projection};
 use crate::error::SceneError;
 use crate::mesh::MeshId;
 use crate::mesh_repair::MeshData;
-use crate::scene_builder::{Node, NodeIndex, SceneBuilder};
+use crate::scene_builder::{Node, SceneBuilder};
 use crate::transform::Transform;
 
 use super::shapes::{cuboid, icosphere};
@@ -61,15 +61,17 @@ fn mesh(b: &mut SceneBuilder, name: &str, data: MeshData) -> Result<MeshId, Scen
     Ok(id.expect("generated meshes have triangles"))
 }
 
-/// Adds a root node with `mesh` and `material` at `transform`.
-fn place(
+/// Adds a box mesh standing on y = 0, `half_x` and `half_z` from its axis, `height` tall: the
+/// shared pieces (bases, capitals, pedestals, planters, benches).
+fn block(
     b: &mut SceneBuilder,
-    name: String,
-    mesh: MeshId,
-    material: crate::MaterialId,
-    transform: Transform,
-) -> NodeIndex {
-    b.add_instance(&name, mesh, material, transform)
+    name: &str,
+    half_x: f32,
+    height: f32,
+    half_z: f32,
+) -> Result<MeshId, SceneError> {
+    let min = Vec3::new(-half_x, 0.0, -half_z);
+    mesh(b, name, cuboid(min, Vec3::new(half_x, height, half_z)))
 }
 
 /// Adds a light.
@@ -106,38 +108,11 @@ pub(super) fn build(b: &mut SceneBuilder, params: &mut Params) -> Result<(), Sce
     let palette = materials::add(b, textures::generate(seed as u32));
     b.set_environment(textures::sky());
 
-    let shared =
-        |b: &mut SceneBuilder, name: &str, min: Vec3, max: Vec3| mesh(b, name, cuboid(min, max));
-    let base = shared(
-        b,
-        "column base",
-        Vec3::new(-0.5, 0.0, -0.5),
-        Vec3::new(0.5, pieces::BASE_HEIGHT, 0.5),
-    )?;
-    let capital = shared(
-        b,
-        "capital",
-        Vec3::new(-0.55, 0.0, -0.55),
-        Vec3::new(0.55, pieces::CAPITAL_HEIGHT, 0.55),
-    )?;
-    let pedestal = shared(
-        b,
-        "pedestal",
-        Vec3::new(-0.5, 0.0, -0.5),
-        Vec3::new(0.5, pieces::PEDESTAL_HEIGHT, 0.5),
-    )?;
-    let planter = shared(
-        b,
-        "planter",
-        Vec3::new(-0.4, 0.0, -0.4),
-        Vec3::new(0.4, 0.5, 0.4),
-    )?;
-    let bench = shared(
-        b,
-        "bench",
-        Vec3::new(-0.25, 0.0, -1.0),
-        Vec3::new(0.25, 0.45, 1.0),
-    )?;
+    let base = block(b, "column base", 0.5, pieces::BASE_HEIGHT, 0.5)?;
+    let capital = block(b, "capital", 0.55, pieces::CAPITAL_HEIGHT, 0.55)?;
+    let pedestal = block(b, "pedestal", 0.5, pieces::PEDESTAL_HEIGHT, 0.5)?;
+    let planter = block(b, "planter", 0.4, 0.5, 0.4)?;
+    let bench = block(b, "bench", 0.25, 0.45, 1.0)?;
     let plant = mesh(b, "plant", pieces::plant())?;
     let sign = mesh(
         b,
@@ -159,9 +134,8 @@ pub(super) fn build(b: &mut SceneBuilder, params: &mut Params) -> Result<(), Sce
         let mid = z0 - 0.5 * BAY;
         let at = |x: f32, y: f32, z: f32| Transform::from_translation(Vec3::new(x, y, z));
         let paving = mesh(b, &format!("paving {k}"), pieces::paving(&mut rng, detail))?;
-        place(
-            b,
-            format!("paving {k}"),
+        b.add_instance(
+            &format!("paving {k}"),
             paving,
             palette.marble,
             at(0.0, 0.0, z0),
@@ -172,9 +146,8 @@ pub(super) fn build(b: &mut SceneBuilder, params: &mut Params) -> Result<(), Sce
                 &format!("{name} facade {k}"),
                 pieces::facade(&mut rng, side, detail),
             )?;
-            place(
-                b,
-                format!("{name} facade {k}"),
+            b.add_instance(
+                &format!("{name} facade {k}"),
                 facade,
                 palette.stone,
                 at(0.0, 0.0, z0),
@@ -185,33 +158,29 @@ pub(super) fn build(b: &mut SceneBuilder, params: &mut Params) -> Result<(), Sce
                 &format!("{name} column {k}"),
                 pieces::column_shaft(&mut rng, detail),
             )?;
-            place(
-                b,
-                format!("{name} column {k}"),
+            b.add_instance(
+                &format!("{name} column {k}"),
                 shaft,
                 palette.stone,
                 at(x, pieces::BASE_HEIGHT, mid),
             );
-            place(
-                b,
-                format!("{name} base {k}"),
+            b.add_instance(
+                &format!("{name} base {k}"),
                 base,
                 palette.stone,
                 at(x, 0.0, mid),
             );
             let capital_y = pieces::BASE_HEIGHT + pieces::SHAFT_HEIGHT;
-            place(
-                b,
-                format!("{name} capital {k}"),
+            b.add_instance(
+                &format!("{name} capital {k}"),
                 capital,
                 palette.stone,
                 at(x, capital_y, mid),
             );
             // A planter with a plant, turned and sized at random, in front of the column.
             let (px, pz) = (side * (COLUMN_X - 0.9), mid + 1.2);
-            place(
-                b,
-                format!("{name} planter {k}"),
+            b.add_instance(
+                &format!("{name} planter {k}"),
                 planter,
                 palette.stone,
                 at(px, 0.0, pz),
@@ -220,9 +189,8 @@ pub(super) fn build(b: &mut SceneBuilder, params: &mut Params) -> Result<(), Sce
             let plant_at = at(px, 0.5, pz)
                 .with_rotation(turn)
                 .with_scale(Vec3::splat(rng.range(0.8, 1.3)));
-            place(
-                b,
-                format!("{name} plant {k}"),
+            b.add_instance(
+                &format!("{name} plant {k}"),
                 plant,
                 palette.foliage,
                 plant_at,
@@ -253,20 +221,13 @@ pub(super) fn build(b: &mut SceneBuilder, params: &mut Params) -> Result<(), Sce
             );
         }
         let arch = mesh(b, &format!("arch {k}"), pieces::arch(&mut rng, detail))?;
-        place(
-            b,
-            format!("arch {k}"),
-            arch,
-            palette.stone,
-            at(0.0, 0.0, mid),
-        );
+        b.add_instance(&format!("arch {k}"), arch, palette.stone, at(0.0, 0.0, mid));
 
         // The sculpture under the colonnade, on the side the camera turns to at this bay.
         let side = if k % 2 == 1 { -1.0 } else { 1.0 };
         let (sx, sz) = (side * 5.6, z0 - 1.5);
-        place(
-            b,
-            format!("pedestal {k}"),
+        b.add_instance(
+            &format!("pedestal {k}"),
             pedestal,
             palette.stone,
             at(sx, 0.0, sz),
@@ -281,7 +242,7 @@ pub(super) fn build(b: &mut SceneBuilder, params: &mut Params) -> Result<(), Sce
         let pose = at(sx, pieces::PEDESTAL_HEIGHT, sz)
             .with_rotation(turn)
             .with_scale(Vec3::splat(0.8));
-        place(b, format!("sculpture {k}"), sculpture, material, pose);
+        b.add_instance(&format!("sculpture {k}"), sculpture, material, pose);
         let above = Vec3::new(sx - side * 1.5, 4.6, sz + 1.0);
         let aim = Transform::looking_at(above, Vec3::new(sx, 2.0, sz), Vec3::Y);
         let spot = LightKind::Spot {
@@ -301,9 +262,8 @@ pub(super) fn build(b: &mut SceneBuilder, params: &mut Params) -> Result<(), Sce
         light(b, format!("arch spot {k}"), down, wide, warm, 20.0);
 
         // A bench and a sign across the street from the sculpture.
-        place(
-            b,
-            format!("bench {k}"),
+        b.add_instance(
+            &format!("bench {k}"),
             bench,
             palette.wood,
             at(-side * 5.4, 0.0, z0 - 3.0),
@@ -316,7 +276,7 @@ pub(super) fn build(b: &mut SceneBuilder, params: &mut Params) -> Result<(), Sce
             },
         ));
         let sign_material = palette.signs[k % palette.signs.len()];
-        place(b, format!("sign {k}"), sign, sign_material, sign_at);
+        b.add_instance(&format!("sign {k}"), sign, sign_material, sign_at);
     }
     finish_street(b, &palette, bays_u32)?;
 
@@ -346,9 +306,8 @@ fn finish_street(
 ) -> Result<(), SceneError> {
     let end = -BAY * bays as f32;
     let stairs = mesh(b, "stairs", pieces::stairs(STEPS, 3.0))?;
-    place(
-        b,
-        "stairs".into(),
+    b.add_instance(
+        "stairs",
         stairs,
         palette.stone,
         Transform::from_translation(Vec3::Z * end),
@@ -357,9 +316,8 @@ fn finish_street(
     let wall_z = end - 0.35 * STEPS as f32 - 2.0;
     let (door_width, door_height) = (2.4, 3.2);
     let wall = mesh(b, "end wall", pieces::end_wall(door_width, door_height))?;
-    place(
-        b,
-        "end wall".into(),
+    b.add_instance(
+        "end wall",
         wall,
         palette.stone,
         Transform::from_translation(Vec3::new(0.0, landing, wall_z)),
@@ -395,9 +353,8 @@ fn finish_street(
     }
     b.add_animation(motion::doors(hinges));
     let fan = mesh(b, "fan", pieces::fan())?;
-    let fan_node = place(
-        b,
-        "fan".into(),
+    let fan_node = b.add_instance(
+        "fan",
         fan,
         palette.steel,
         Transform::from_translation(Vec3::new(0.0, landing + 6.0, wall_z + 0.15)),
@@ -414,7 +371,7 @@ fn finish_street(
     {
         let start = Vec3::new(x, radius, -1.0);
         let pose = Transform::from_translation(start).with_scale(Vec3::splat(radius));
-        let node = place(b, format!("ball {k}"), ball, material, pose);
+        let node = b.add_instance(&format!("ball {k}"), ball, material, pose);
         let period = (2 + k) as f32 * bays as f32;
         b.add_animation(motion::ball_path(
             node,

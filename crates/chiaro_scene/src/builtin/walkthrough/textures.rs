@@ -88,6 +88,11 @@ fn srgb(linear: f32) -> f32 {
     }
 }
 
+/// A texel of sRGB-encoded linear `color` and `alpha`.
+fn srgb_rgba(color: Vec3, alpha: f32) -> [f32; 4] {
+    [srgb(color.x), srgb(color.y), srgb(color.z), alpha]
+}
+
 /// A tangent-space normal map of the height field `height` (tileable), `strength` its slope scale.
 fn normal_map(name: &str, height: &impl Fn(Vec2) -> f32, strength: f32) -> Texture {
     let e = 1.0 / SIDE as f32;
@@ -150,7 +155,7 @@ pub fn generate(seed: u32) -> Textures {
             let grain = 0.75 + 0.5 * fbm(uv, 16, seed + 11);
             let stone = Vec3::new(0.58, 0.52, 0.44) * tint * grain;
             let color = Vec3::splat(0.3).lerp(stone, smoothstep(0.0, 0.012, joint));
-            [srgb(color.x), srgb(color.y), srgb(color.z), 1.0]
+            srgb_rgba(color, 1.0)
         }),
         stone_normal: normal_map("walkthrough stone normal", &stone_height, 6.0),
         stone_metal_rough: texture(
@@ -176,7 +181,7 @@ pub fn generate(seed: u32) -> Textures {
                 Vec3::new(0.78, 0.76, 0.72)
             };
             let color = base.lerp(Vec3::splat(if dark { 0.45 } else { 0.35 }), vein * 0.6);
-            [srgb(color.x), srgb(color.y), srgb(color.z), 1.0]
+            srgb_rgba(color, 1.0)
         }),
         marble_normal: normal_map("walkthrough marble normal", &marble_height, 2.0),
         marble_metal_rough: texture(
@@ -218,7 +223,7 @@ fn leaf(seed: u32) -> Texture {
             inside = 1.0;
         }
         let color = Vec3::new(0.10, 0.32, 0.06) * shade;
-        [srgb(color.x), srgb(color.y), srgb(color.z), inside]
+        srgb_rgba(color, inside)
     })
 }
 
