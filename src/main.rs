@@ -14,7 +14,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use chiaro::gpu::{FrameSettings, RenderMode};
 use chiaro::reference::{
-    LightSampling, PathSettings, RenderSettings, render_world, write_exr, write_png,
+    Integrator, LightSampling, PathSettings, RenderSettings, render_world, write_exr, write_png,
 };
 use chiaro::scene::{Environment, LoadOptions, SceneInfo, load_scene_with};
 use chiaro::shading::tonemap::{Tonemapper, exposure_from_ev};
@@ -166,6 +166,11 @@ enum Command {
         /// point, through a light tree) or power (by power alone).
         #[arg(long, default_value = "tree")]
         light_sampling: LightSampling,
+        /// The estimator: pt (paths from the camera, next-event estimation, MIS) or bdpt
+        /// (bidirectional: camera and light subpaths joined by every strategy, MIS-weighted;
+        /// finds light camera paths rarely reach; light paths pick lights by power).
+        #[arg(long, default_value = "pt")]
+        integrator: Integrator,
         #[command(flatten)]
         memory: MemoryArgs,
     },
@@ -415,12 +420,14 @@ fn main() -> Result<()> {
             threads,
             max_depth,
             light_sampling,
+            integrator,
             memory,
         } => {
             let path = PathSettings {
                 max_depth,
                 direct_only,
                 light_sampling,
+                integrator,
                 ..PathSettings::default()
             };
             let settings = RenderSettings {

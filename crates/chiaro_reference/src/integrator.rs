@@ -37,6 +37,43 @@ pub struct PathSettings {
     pub direct_only: bool,
     /// How next-event estimation picks a light.
     pub light_sampling: LightSampling,
+    /// Which estimator traces the paths.
+    pub integrator: Integrator,
+}
+
+/// The estimator of the rendering equation.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Integrator {
+    /// Paths from the camera with next-event estimation and MIS (this module).
+    #[default]
+    Pt,
+    /// Bidirectional path tracing: a camera and a light subpath, joined by every connection
+    /// strategy and weighted by MIS ([`crate::bdpt`]).
+    Bdpt,
+    /// One strategy of the bidirectional estimator alone, unweighted: `s` light and `t` camera
+    /// vertices (t >= 1, s + t >= 2), so only paths of exactly s + t - 2 bounces. Each such
+    /// image is an unbiased estimate of the same light, which makes it a check of the
+    /// strategy.
+    BdptStrategy {
+        /// Light subpath vertices.
+        s: u32,
+        /// Camera subpath vertices.
+        t: u32,
+    },
+}
+
+impl std::str::FromStr for Integrator {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "pt" => Ok(Self::Pt),
+            "bdpt" => Ok(Self::Bdpt),
+            other => Err(format!(
+                "unknown integrator '{other}' (expected pt or bdpt)"
+            )),
+        }
+    }
 }
 
 impl Default for PathSettings {
@@ -46,13 +83,14 @@ impl Default for PathSettings {
             russian_roulette_from: Some(3),
             direct_only: false,
             light_sampling: LightSampling::default(),
+            integrator: Integrator::Pt,
         }
     }
 }
 
 /// Fraction of the distance to a sampled light point that a shadow ray tests, so the emitter
 /// itself does not occlude its own sample.
-const SHADOW_RAY_REACH: f32 = 1.0 - 1e-4;
+pub(crate) const SHADOW_RAY_REACH: f32 = 1.0 - 1e-4;
 
 /// The previous vertex, for MIS weights of emission found by BRDF sampling.
 #[derive(Clone, Copy)]
@@ -64,8 +102,37 @@ struct Previous {
     delta: bool,
 }
 
+/// Radiance of emissive triangle `triangle` of instance `instance` at barycentrics (b1, b2) of
+/// its world-space vertices (front face counter-clockwise), alpha-blended coverage included.
+pub(crate) fn triangle_emission(
+    scene: &RenderScene,
+    instance: u32,
+    triangle: u32,
+    (b1, b2): (f32, f32),
+) -> Option<Vec3> {
+    let record = &scene.bvh.instances()[instance as usize];
+    let mesh = scene.meshes.get(record.mesh)?;
+    let material = scene.materials.get(record.material)?;
+    // world_triangle swaps vertices 1 and 2 under a mirroring transform.
+    let mirrored = record.world.matrix3.determinant() < 0.0;
+    let b = if mirrored {
+        Vec3::new(1.0 - b1 - b2, b2, b1)
+    } else {
+        Vec3::new(1.0 - b1 - b2, b1, b2)
+    };
+    Some(
+        emission_at(scene, material, uvs_at(mesh, triangle, b))
+            * emitter_coverage(scene, material, mesh, triangle, b),
+    )
+}
+
 /// Samples light `entry` from `p`.
-fn sample_light(scene: &RenderScene, entry: &LightEntry, p: Vec3, u: Vec2) -> Option<LightSample> {
+pub(crate) fn sample_light(
+    scene: &RenderScene,
+    entry: &LightEntry,
+    p: Vec3,
+    u: Vec2,
+) -> Option<LightSample> {
     match *entry {
         LightEntry::Point {
             position,
@@ -102,18 +169,7 @@ fn sample_light(scene: &RenderScene, entry: &LightEntry, p: Vec3, u: Vec2) -> Op
             if facing <= 0.0 && !two_sided {
                 return None;
             }
-            let record = &scene.bvh.instances()[instance as usize];
-            let mesh = scene.meshes.get(record.mesh)?;
-            let material = scene.materials.get(record.material)?;
-            // world_triangle swaps vertices 1 and 2 under a mirroring transform.
-            let mirrored = record.world.matrix3.determinant() < 0.0;
-            let b = if mirrored {
-                Vec3::new(1.0 - b1 - b2, b2, b1)
-            } else {
-                Vec3::new(1.0 - b1 - b2, b1, b2)
-            };
-            let radiance = emission_at(scene, material, uvs_at(mesh, triangle, b))
-                * emitter_coverage(scene, material, mesh, triangle, b);
+            let radiance = triangle_emission(scene, instance, triangle, (b1, b2))?;
             let pdf = lights::triangle_solid_angle_pdf(v, p, q);
             (pdf > 0.0 && pdf.is_finite()).then_some(LightSample {
                 wi,
@@ -151,7 +207,7 @@ fn on_its_side(si: &SurfaceHit, wi: Vec3, local_z: f32) -> bool {
 }
 
 /// The origin of a ray leaving `si` along `wi`, offset to the side `wi` goes.
-fn leaving_origin(si: &SurfaceHit, wi: Vec3) -> Vec3 {
+pub(crate) fn leaving_origin(si: &SurfaceHit, wi: Vec3) -> Vec3 {
     if wi.dot(si.geometric_normal) >= 0.0 {
         offset_ray_origin(si.position, si.geometric_normal)
     } else {

@@ -20,6 +20,7 @@
 //! assert!((mean - 1.0).abs() < 0.1, "the furnace glows with radiance 1: {mean}");
 //! ```
 
+mod bdpt;
 mod camera;
 mod error;
 mod integrator;
@@ -30,9 +31,9 @@ mod scene;
 mod surface;
 mod texture_sampling;
 
-pub use camera::CameraRays;
+pub use camera::{CameraImportance, CameraRays};
 pub use error::ReferenceError;
-pub use integrator::PathSettings;
+pub use integrator::{Integrator, PathSettings};
 pub use light_table::{LightEntry, LightSampling, LightTable};
 pub use output::{read_exr, write_exr, write_png, write_png_pixels};
 pub use render::{MAX_THREADS, RenderOutput, RenderSettings, TILE, render};

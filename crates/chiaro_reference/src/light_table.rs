@@ -87,6 +87,12 @@ pub struct LightTable {
     /// Table index -> index in the tree's light list (finite lights under tree sampling).
     tree_index: HashMap<usize, usize>,
     environment: Option<usize>,
+    /// Every light in proportion to its power, whatever the selection: what a light path
+    /// starts from (it has no shading point to weigh lights by).
+    by_power: Option<Distribution1D>,
+    /// The scene's bounding sphere (centre, radius): where light from infinitely far away
+    /// enters it.
+    pub bounding_sphere: (Vec3, f32),
 }
 
 fn triangle_area(v: &[Vec3; 3]) -> f32 {
@@ -213,6 +219,12 @@ impl LightTable {
             powers.push(env_power);
             extents.push(None);
         }
+        let by_power = Distribution1D::new(&powers);
+        let centre = if bounds.is_empty() {
+            Vec3::ZERO
+        } else {
+            bounds.center()
+        };
         let mut tree_index = HashMap::new();
         let selection = match sampling {
             LightSampling::Power => {
@@ -258,7 +270,29 @@ impl LightTable {
             triangles,
             tree_index,
             environment,
+            by_power,
+            bounding_sphere: (centre, radius),
         }
+    }
+
+    /// Picks a light in proportion to its power alone: its index and the probability.
+    pub fn pick_by_power(&self, u: f32) -> Option<(usize, f32)> {
+        self.by_power.as_ref().map(|d| d.sample(u))
+    }
+
+    /// Probability that [`LightTable::pick_by_power`] returns entry `index`.
+    pub fn power_pmf(&self, index: usize) -> f32 {
+        self.by_power.as_ref().map_or(0.0, |d| d.pmf(index))
+    }
+
+    /// The table index of emissive triangle `triangle` of instance `instance`.
+    pub fn triangle_index(&self, instance: u32, triangle: u32) -> Option<usize> {
+        self.triangles.get(&(instance, triangle)).copied()
+    }
+
+    /// The table index of the environment, when it is light-sampled.
+    pub fn environment_index(&self) -> Option<usize> {
+        self.environment
     }
 
     /// Picks a light for shading point `p` with normal `n` (zero: no surface to weigh by): its

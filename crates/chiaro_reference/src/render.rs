@@ -1,6 +1,8 @@
 //! The render loop: square tiles on rayon, each pixel with its own random stream seeded by
 //! (seed, pixel index), so the image for a seed is the same whatever the thread count. Samples
 //! alternate between two halves, kept apart so the reference's own noise can be measured.
+//! Bidirectional samples also land on other pixels (light tracing): each tile returns those
+//! splats, and they are added in tile order, so that image too is independent of threads.
 
 use std::time::{Duration, Instant};
 
@@ -9,8 +11,9 @@ use glam::Vec3;
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
+use crate::bdpt::{self, Splat, Subpaths};
 use crate::error::ReferenceError;
-use crate::integrator::{PathSettings, radiance};
+use crate::integrator::{Integrator, PathSettings, radiance};
 use crate::scene::RenderScene;
 
 /// Side of the square tiles the image is split into.
@@ -72,13 +75,22 @@ pub struct RenderOutput {
 /// Sums of one pixel's samples, split by parity, and its count of dropped samples.
 type PixelSums = ([Vec3; 2], u64);
 
-fn render_tile(
-    scene: &RenderScene,
-    settings: &RenderSettings,
-    tile: (u32, u32),
-) -> Vec<(u32, PixelSums)> {
+/// What one tile renders: its pixels' sums, and the splats its samples left on any pixel
+/// (with the half they count in).
+struct TileOutput {
+    pixels: Vec<(u32, PixelSums)>,
+    splats: [Vec<Splat>; 2],
+}
+
+fn render_tile(scene: &RenderScene, settings: &RenderSettings, tile: (u32, u32)) -> TileOutput {
     let (x0, y0) = (tile.0 * TILE, tile.1 * TILE);
-    let mut out = Vec::with_capacity((TILE * TILE) as usize);
+    let mut pixels = Vec::with_capacity((TILE * TILE) as usize);
+    let mut splats = [Vec::new(), Vec::new()];
+    let mut subpaths = Subpaths::default();
+    let strategy = match settings.path.integrator {
+        Integrator::BdptStrategy { s, t } => Some((s as usize, t as usize)),
+        _ => None,
+    };
     for y in y0..(y0 + TILE).min(settings.height) {
         for x in x0..(x0 + TILE).min(settings.width) {
             let index = y * settings.width + x;
@@ -86,18 +98,32 @@ fn render_tile(
             let mut sums = [Vec3::ZERO; 2];
             let mut dropped = 0;
             for s in 0..settings.spp {
-                let ray = scene.camera.ray(x, y, rng.next_vec2());
-                let l = radiance(scene, ray, &mut rng, &settings.path);
+                let half = (s % 2) as usize;
+                let l = match settings.path.integrator {
+                    Integrator::Pt => {
+                        let ray = scene.camera.ray(x, y, rng.next_vec2());
+                        radiance(scene, ray, &mut rng, &settings.path)
+                    }
+                    Integrator::Bdpt | Integrator::BdptStrategy { .. } => bdpt::sample(
+                        scene,
+                        (x, y),
+                        &mut rng,
+                        &settings.path,
+                        strategy,
+                        &mut subpaths,
+                        &mut splats[half],
+                    ),
+                };
                 if l.is_finite() {
-                    sums[(s % 2) as usize] += l;
+                    sums[half] += l;
                 } else {
                     dropped += 1;
                 }
             }
-            out.push((index, (sums, dropped)));
+            pixels.push((index, (sums, dropped)));
         }
     }
-    out
+    TileOutput { pixels, splats }
 }
 
 /// Renders `scene`; `progress` shows a bar with ETA on the terminal.
@@ -111,6 +137,12 @@ pub fn render(
             "{}x{} at {} spp: need a non-empty image and at least 2 samples (two halves)",
             settings.width, settings.height, settings.spp
         )));
+    }
+    if settings.path.integrator != Integrator::Pt && !scene.camera.is_perspective() {
+        return Err(ReferenceError::Settings(
+            "bdpt needs a perspective camera: light paths cannot reach an orthographic one"
+                .to_string(),
+        ));
     }
     if let Some(threads) = settings.threads
         && !(1..=MAX_THREADS).contains(&threads)
@@ -132,32 +164,54 @@ pub fn render(
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     let start = Instant::now();
-    let work = || {
-        tiles
-            .par_iter()
-            .map(|&tile| {
-                let pixels = render_tile(scene, settings, tile);
-                bar.inc(1);
-                pixels
-            })
-            .collect::<Vec<_>>()
+    let pixels = (settings.width * settings.height) as usize;
+    let mut sums = vec![PixelSums::default(); pixels];
+    let mut splatted = [vec![Vec3::ZERO; pixels], vec![Vec3::ZERO; pixels]];
+    let mut non_finite_samples = 0;
+    // Tiles go in batches so that their splats are merged (in tile order) before they pile up.
+    let mut work = || {
+        let batch = 4 * rayon::current_num_threads();
+        for chunk in tiles.chunks(batch) {
+            let outputs: Vec<TileOutput> = chunk
+                .par_iter()
+                .map(|&tile| {
+                    let output = render_tile(scene, settings, tile);
+                    bar.inc(1);
+                    output
+                })
+                .collect();
+            for output in outputs {
+                for (index, pixel) in output.pixels {
+                    sums[index as usize] = pixel;
+                }
+                for (half, list) in output.splats.iter().enumerate() {
+                    for splat in list {
+                        let x = (splat.raster.x as u32).min(settings.width - 1);
+                        let y = (splat.raster.y as u32).min(settings.height - 1);
+                        if splat.value.is_finite() {
+                            splatted[half][(y * settings.width + x) as usize] += splat.value;
+                        } else {
+                            non_finite_samples += 1;
+                        }
+                    }
+                }
+            }
+        }
     };
-    let results = match settings.threads {
+    match settings.threads {
         Some(threads) => rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
             .map_err(|e| ReferenceError::Settings(format!("cannot start {threads} threads: {e}")))?
             .install(work),
         None => work(),
-    };
+    }
     bar.finish_and_clear();
-    let pixels = (settings.width * settings.height) as usize;
     let mut halves = [vec![Vec3::ZERO; pixels], vec![Vec3::ZERO; pixels]];
-    let mut non_finite_samples = 0;
     let counts = [settings.spp.div_ceil(2) as f32, (settings.spp / 2) as f32];
-    for (index, (sums, dropped)) in results.into_iter().flatten() {
+    for (index, (pixel, dropped)) in sums.iter().enumerate() {
         for k in 0..2 {
-            halves[k][index as usize] = sums[k] / counts[k];
+            halves[k][index] = (pixel[k] + splatted[k][index]) / counts[k];
         }
         non_finite_samples += dropped;
     }

@@ -36,6 +36,9 @@ pub struct SurfaceHit {
     /// The attenuation coefficient of the medium the ray crossed to get here: a
     /// KHR_materials_volume's when the ray hit its back face from inside, else zero.
     pub medium: Vec3,
+    /// The attenuation coefficient on the far side of the surface from the ray: a
+    /// KHR_materials_volume's when the ray hit its front face from outside, else zero.
+    pub far_medium: Vec3,
 }
 
 /// The three world-space vertices of `triangle` of `mesh` under `world`, reordered so that
@@ -235,9 +238,13 @@ pub fn surface_at(scene: &RenderScene, ray: &Ray, hit: &Hit) -> SurfaceHit {
             None => 0.0,
         },
     };
-    let medium = match material.volume {
-        Some(volume) if !front_facing => volume.attenuation_coefficient(),
-        _ => Vec3::ZERO,
+    let interior = material
+        .volume
+        .map_or(Vec3::ZERO, |volume| volume.attenuation_coefficient());
+    let (medium, far_medium) = if front_facing {
+        (Vec3::ZERO, interior)
+    } else {
+        (interior, Vec3::ZERO)
     };
     let emission = if shades {
         emission_at(scene, material, uvs)
@@ -252,5 +259,6 @@ pub fn surface_at(scene: &RenderScene, ray: &Ray, hit: &Hit) -> SurfaceHit {
         params,
         emission,
         medium,
+        far_medium,
     }
 }
