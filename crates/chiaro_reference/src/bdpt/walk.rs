@@ -48,6 +48,9 @@ fn random_walk(
     path: &mut Vec<Vertex>,
 ) {
     let mut pushed = 0;
+    // Roulette weighs the throughput against the walk's start: a light path's is in the
+    // light's units, far from 1.
+    let start = beta.max_element().max(f32::MIN_POSITIVE);
     while pushed < max_vertices {
         let Some(found) = scene.closest_hit(&ray) else {
             if transport == Transport::Radiance {
@@ -130,7 +133,7 @@ fn random_walk(
         if let Some(from) = roulette.0
             && pushed >= from
         {
-            let survive = beta.max_element().clamp(0.05, 1.0);
+            let survive = (beta.max_element() / start).clamp(0.05, 1.0);
             if rng.next_f32() >= survive {
                 return;
             }
