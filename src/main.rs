@@ -33,8 +33,8 @@ struct Cli {
 /// Options shared by every command that takes a scene.
 #[derive(Args)]
 struct SceneArgs {
-    /// A .gltf or .glb file, or builtin:NAME (cornell, furnace, hard-cases, instances,
-    /// many-lights, walkthrough), e.g. builtin:instances?n=10000.
+    /// A .gltf or .glb file, or builtin:NAME (caustic, cornell, door, furnace, hard-cases,
+    /// instances, lamp, many-lights, walkthrough), e.g. builtin:instances?n=10000.
     scene: String,
     /// Replaces the scene's environment: an equirectangular .hdr or .exr image, or a constant
     /// linear colour R,G,B.

@@ -15,6 +15,7 @@ use crate::material::Material;
 use crate::scene_builder::{Node, SceneBuilder};
 use crate::transform::Transform;
 
+use super::add_shape;
 use super::shapes::{closed_quads, quad};
 
 const MM: f32 = 0.001;
@@ -98,7 +99,13 @@ pub(super) fn build(b: &mut SceneBuilder) -> Result<(), SceneError> {
     ];
     for (name, material, corners) in walls {
         let center = corners.iter().sum::<Vec3>() / 4.0;
-        add(b, name, material, quad(corners, room_center - center))?;
+        add_shape(
+            b,
+            name,
+            material,
+            quad(corners, room_center - center),
+            Transform::IDENTITY,
+        )?;
     }
 
     let short_block = [
@@ -166,7 +173,7 @@ pub(super) fn build(b: &mut SceneBuilder) -> Result<(), SceneError> {
         ],
     ];
     for (name, faces) in [("short block", short_block), ("tall block", tall_block)] {
-        add(b, name, white, closed_quads(&faces))?;
+        add_shape(b, name, white, closed_quads(&faces), Transform::IDENTITY)?;
     }
 
     let eye = p(278.0, 273.0, -800.0);
@@ -183,17 +190,5 @@ pub(super) fn build(b: &mut SceneBuilder) -> Result<(), SceneError> {
         }),
         ..Node::default()
     });
-    Ok(())
-}
-
-fn add(
-    b: &mut SceneBuilder,
-    name: &str,
-    material: crate::MaterialId,
-    data: crate::mesh_repair::MeshData,
-) -> Result<(), SceneError> {
-    if let Some(mesh) = b.add_mesh(&format!("mesh {name:?}"), name, data)? {
-        b.add_instance(name, mesh, material, Transform::IDENTITY);
-    }
     Ok(())
 }

@@ -3,36 +3,53 @@
 //!
 //! | name | what | parameters |
 //! |---|---|---|
+//! | `caustic` | a small emitter's caustics on a floor, from a polished metal ring and a glass sphere | |
 //! | `cornell` | the Cornell box, published dimensions and reflectances, emissive quad light | |
+//! | `door` | Veach's door: a room lit only through a door ajar from the next room's emitter | |
 //! | `furnace` | inside a closed diffuse sphere of albedo 0.5 emitting 0.5: radiance 1 everywhere | |
 //! | `hard-cases` | numerically hard cases side by side, each with its camera (`scale` only alone) | `case` (one case alone) |
 //! | `instances` | one mesh instanced on a grid | `n` (instances, default 1024) |
+//! | `lamp` | a room lit by a small emitter hidden in a pendant lamp's shade | |
 //! | `many-lights` | small emissive quads and punctual lights over a floor | `quads`, `lights` (256 each) |
 //! | `walkthrough` | a colonnaded street of 1.3M unique triangles that moves, with a camera path | `size` (bays, 8), `detail` (4), `seed` (1) |
 //!
 //! Built-in scenes go through the same mesh validation as files; they need no file.
 
+mod caustic;
 mod cornell;
+mod door;
 mod furnace;
 mod hard_cases;
 mod instances;
+mod lamp;
 mod many_lights;
 pub mod shapes;
+#[cfg(test)]
+mod sight;
 pub mod walkthrough;
 
 use std::collections::BTreeMap;
 
+use glam::Vec3;
+
+use crate::components::{Camera, Projection};
 use crate::error::{Fault, SceneError};
-use crate::scene_builder::SceneBuilder;
+use crate::material::MaterialId;
+use crate::mesh_repair::MeshData;
+use crate::scene_builder::{Node, SceneBuilder};
+use crate::transform::Transform;
 
 pub use hard_cases::{CASES_ALONE, HARD_CASES, hard_case_scene};
 
 /// Names of the built-in scenes.
-pub const BUILTIN_SCENES: [&str; 6] = [
+pub const BUILTIN_SCENES: [&str; 9] = [
+    "caustic",
     "cornell",
+    "door",
     "furnace",
     "hard-cases",
     "instances",
+    "lamp",
     "many-lights",
     "walkthrough",
 ];
@@ -95,10 +112,13 @@ pub fn build(spec: &str) -> Result<SceneBuilder, SceneError> {
     };
     let mut builder = SceneBuilder::new(spec);
     match name {
+        "caustic" => caustic::build(&mut builder)?,
         "cornell" => cornell::build(&mut builder)?,
+        "door" => door::build(&mut builder)?,
         "furnace" => furnace::build(&mut builder)?,
         "hard-cases" => hard_cases::build(&mut builder, &mut params)?,
         "instances" => instances::build(&mut builder, &mut params)?,
+        "lamp" => lamp::build(&mut builder)?,
         "many-lights" => many_lights::build(&mut builder, &mut params)?,
         "walkthrough" => walkthrough::build(&mut builder, &mut params)?,
         _ => {
@@ -110,6 +130,38 @@ pub fn build(spec: &str) -> Result<SceneBuilder, SceneError> {
     }
     params.finish()?;
     Ok(builder)
+}
+
+/// Adds `data` as a mesh named `name` and one instance of it with `material` at `transform`.
+pub(super) fn add_shape(
+    b: &mut SceneBuilder,
+    name: &str,
+    material: MaterialId,
+    data: MeshData,
+    transform: Transform,
+) -> Result<(), SceneError> {
+    if let Some(mesh) = b.add_mesh(&format!("mesh {name:?}"), name, data)? {
+        b.add_instance(name, mesh, material, transform);
+    }
+    Ok(())
+}
+
+/// Adds a perspective camera at `eye` looking at `target` (+Y up) with a vertical field of view
+/// of `yfov_degrees`, the image's aspect ratio.
+pub(super) fn add_camera(b: &mut SceneBuilder, eye: Vec3, target: Vec3, yfov_degrees: f32) {
+    b.add_node(Node {
+        name: Some("camera".into()),
+        transform: Transform::looking_at(eye, target, Vec3::Y),
+        camera: Some(Camera {
+            projection: Projection::Perspective {
+                yfov: yfov_degrees.to_radians(),
+                aspect_ratio: None,
+                znear: 0.01,
+                zfar: None,
+            },
+        }),
+        ..Node::default()
+    });
 }
 
 /// A small deterministic generator (SplitMix64) for scene layouts: same parameters, same scene.

@@ -1,6 +1,7 @@
 //! Mesh data for the built-in scenes: quads, boxes and icospheres, with flat or smooth normals.
 
 use std::collections::HashMap;
+use std::ops::Range;
 
 use glam::{Vec2, Vec3};
 
@@ -32,6 +33,46 @@ pub fn append_quad(data: &mut MeshData, c: [Vec3; 4], facing: Vec3) {
     data.indices
         .get_or_insert_with(Vec::new)
         .extend([0, 1, 2, 0, 2, 3].map(|i| base + i));
+}
+
+/// Appends a band of a surface of revolution about the Y axis to `data`: `segments` quads from
+/// angle `arc.start` to `arc.end` (radians, `start < end`, counter-clockwise seen from +Y: +X
+/// toward -Z) between the circle of radius `from.x` at height `from.y` and that of radius `to.x`
+/// at height `to.y`. Smooth normals point to the left of the profile from `from` to `to`: away
+/// from the axis on a rising wall (a cylinder or cone), up on a disc shrinking toward the axis.
+/// A zero radius closes the band to the axis with one triangle a segment (a disc, a cone's tip).
+/// UVs run over [0, 1] along the arc and the profile.
+pub fn append_band(data: &mut MeshData, from: Vec2, to: Vec2, arc: Range<f32>, segments: u32) {
+    let d = to - from;
+    let normal = Vec2::new(d.y, -d.x).normalize();
+    for k in 0..segments {
+        let base = data.positions.len() as u32;
+        for (step, ring, v) in [
+            (k, from, 0.0),
+            (k + 1, from, 0.0),
+            (k + 1, to, 1.0),
+            (k, to, 1.0),
+        ] {
+            let u = step as f32 / segments as f32;
+            let (sin, cos) = (arc.start + u * (arc.end - arc.start)).sin_cos();
+            let radial = Vec3::new(cos, 0.0, -sin);
+            data.positions.push(radial * ring.x + Vec3::Y * ring.y);
+            data.normals
+                .get_or_insert_with(Vec::new)
+                .push(radial * normal.x + Vec3::Y * normal.y);
+            data.uvs[0]
+                .get_or_insert_with(Vec::new)
+                .push(Vec2::new(u, v));
+        }
+        // Corners 0 and 1 meet on the axis when `from` is on it, 2 and 3 when `to` is.
+        let indices = data.indices.get_or_insert_with(Vec::new);
+        if from.x != 0.0 {
+            indices.extend([0, 1, 2].map(|i| base + i));
+        }
+        if to.x != 0.0 {
+            indices.extend([0, 2, 3].map(|i| base + i));
+        }
+    }
 }
 
 /// An axis-aligned square of side `size` in the XZ plane at y = 0, facing +Y.
@@ -127,49 +168,59 @@ pub fn graded_box(min: Vec3, max: Vec3, focus: Vec2, finest: f32) -> MeshData {
     data
 }
 
-/// An axis-aligned box from `min` to `max`, six outward-facing quads (12 triangles).
-pub fn cuboid(min: Vec3, max: Vec3) -> MeshData {
+/// The six faces of the axis-aligned box from `min` to `max`, corners in order around each: at
+/// -X, +X, -Y (the floor of a room), +Y, -Z, +Z.
+pub fn box_faces(min: Vec3, max: Vec3) -> [[Vec3; 4]; 6] {
     let corner = |x: usize, y: usize, z: usize| {
         Vec3::new([min.x, max.x][x], [min.y, max.y][y], [min.z, max.z][z])
     };
-    closed_quads(&[
-        [
-            corner(0, 0, 0),
-            corner(0, 1, 0),
-            corner(0, 1, 1),
-            corner(0, 0, 1),
-        ],
-        [
-            corner(1, 0, 0),
-            corner(1, 1, 0),
-            corner(1, 1, 1),
-            corner(1, 0, 1),
-        ],
-        [
-            corner(0, 0, 0),
-            corner(1, 0, 0),
-            corner(1, 0, 1),
-            corner(0, 0, 1),
-        ],
-        [
-            corner(0, 1, 0),
-            corner(1, 1, 0),
-            corner(1, 1, 1),
-            corner(0, 1, 1),
-        ],
-        [
-            corner(0, 0, 0),
-            corner(1, 0, 0),
-            corner(1, 1, 0),
-            corner(0, 1, 0),
-        ],
-        [
-            corner(0, 0, 1),
-            corner(1, 0, 1),
-            corner(1, 1, 1),
-            corner(0, 1, 1),
-        ],
-    ])
+    let x = |at| [(at, 0, 0), (at, 1, 0), (at, 1, 1), (at, 0, 1)];
+    let y = |at| [(0, at, 0), (1, at, 0), (1, at, 1), (0, at, 1)];
+    let z = |at| [(0, 0, at), (1, 0, at), (1, 1, at), (0, 1, at)];
+    [x(0), x(1), y(0), y(1), z(0), z(1)].map(|face| face.map(|(i, j, k)| corner(i, j, k)))
+}
+
+/// Appends the axis-aligned box from `min` to `max` to `data`: six outward-facing quads.
+pub fn append_cuboid(data: &mut MeshData, min: Vec3, max: Vec3) {
+    let center = 0.5 * (min + max);
+    for face in box_faces(min, max) {
+        append_quad(data, face, face.iter().sum::<Vec3>() / 4.0 - center);
+    }
+}
+
+/// An axis-aligned box from `min` to `max`, six outward-facing quads (12 triangles).
+pub fn cuboid(min: Vec3, max: Vec3) -> MeshData {
+    let mut data = MeshData::default();
+    append_cuboid(&mut data, min, max);
+    data
+}
+
+/// The inside of a room, the axis-aligned box from `min` to `max` seen from within: its walls
+/// and ceiling, and apart (for a material of its own) its floor, quads facing inward.
+pub fn room(min: Vec3, max: Vec3) -> (MeshData, MeshData) {
+    let center = 0.5 * (min + max);
+    let (mut walls, mut floor) = (MeshData::default(), MeshData::default());
+    for (k, face) in box_faces(min, max).into_iter().enumerate() {
+        let facing = center - face.iter().sum::<Vec3>() / 4.0;
+        append_quad(if k == 2 { &mut floor } else { &mut walls }, face, facing);
+    }
+    (walls, floor)
+}
+
+/// A table filling the box from `min` to `max` (metres): a top 4 cm thick on four legs 5 cm
+/// square, set 5 cm in from its corners (60 triangles).
+pub fn table(min: Vec3, max: Vec3) -> MeshData {
+    let mut data = MeshData::default();
+    let knee = max.y - 0.04;
+    append_cuboid(&mut data, Vec3::new(min.x, knee, min.z), max);
+    let (inset, leg) = (0.05, 0.05);
+    for x in [min.x + inset, max.x - inset - leg] {
+        for z in [min.z + inset, max.z - inset - leg] {
+            let foot = Vec3::new(x, min.y, z);
+            append_cuboid(&mut data, foot, foot + Vec3::new(leg, knee - min.y, leg));
+        }
+    }
+    data
 }
 
 /// A unit-radius icosphere: an icosahedron subdivided `level` times (20 * 4^level triangles),
@@ -334,6 +385,52 @@ mod tests {
                 .fold(f32::INFINITY, f32::min);
             assert!(longest <= 2.0 * nearest.max(2.0 * finest), "{p:?}");
         }
+    }
+
+    #[test]
+    fn bands_wind_with_their_normals_and_close_on_the_axis() {
+        // Every triangle's winding agrees with its vertices' normals.
+        let agrees = |data: &MeshData| {
+            let n = data.normals.as_ref().unwrap();
+            data.indices.as_ref().unwrap().chunks_exact(3).all(|t| {
+                let p = [t[0], t[1], t[2]].map(|i| data.positions[i as usize]);
+                let face = (p[1] - p[0]).cross(p[2] - p[0]);
+                t.iter().all(|&i| face.dot(n[i as usize]) > 0.0)
+            })
+        };
+        let mut cone = MeshData::default();
+        let half_turn = 0.0..std::f32::consts::PI;
+        append_band(
+            &mut cone,
+            Vec2::new(1.0, 0.0),
+            Vec2::new(0.5, 1.0),
+            half_turn,
+            12,
+        );
+        let (mesh, repairs) = Mesh::new("cone", cone.clone()).unwrap();
+        assert!(repairs.is_empty());
+        assert_eq!(mesh.triangle_count(), 24);
+        assert!(agrees(&cone));
+        assert_eq!(outward_fraction(&cone, Vec3::ZERO), 1.0);
+        assert!(
+            cone.positions.iter().all(|p| p.z <= 1e-6),
+            "the half turn is on -Z"
+        );
+
+        let mut disc = MeshData::default();
+        let full_turn = 0.0..std::f32::consts::TAU;
+        append_band(
+            &mut disc,
+            Vec2::new(1.0, 2.0),
+            Vec2::new(0.0, 2.0),
+            full_turn,
+            16,
+        );
+        let (mesh, repairs) = Mesh::new("disc", disc.clone()).unwrap();
+        assert!(repairs.is_empty());
+        assert_eq!(mesh.triangle_count(), 16);
+        assert!(agrees(&disc));
+        assert!(disc.normals.as_ref().unwrap().iter().all(|n| *n == Vec3::Y));
     }
 
     #[test]
