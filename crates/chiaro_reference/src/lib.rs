@@ -7,6 +7,8 @@
 //! (unbiased) after a few bounces; alpha masks, normal maps and bilinear textures honoured. Tiles
 //! run on rayon and the image for a seed does not depend on the thread count. Two independent
 //! halves of the samples are kept, so the reference's own residual noise can be reported.
+//! [`Integrator::Bdpt`] traces bidirectionally instead, for light that camera paths rarely
+//! reach (through a door ajar, from inside a lamp shade, in caustics).
 //!
 //! ```
 //! use bevy_ecs::world::World;

@@ -1,10 +1,11 @@
 //! Veach's door (Veach 1997, "Robust Monte Carlo Methods for Light Transport Simulation", fig.
 //! 10.3): a room lit only through a door that stands ajar. The emitter, a panel on the far side
-//! of the dividing wall, faces away from the door into the next room, so every path from it to
-//! the camera's room bounces at least once in the next room before it slips through the gap
-//! (12 cm) between the door's free edge and its jamb. Units are metres: two rooms 4 m wide
-//! and 2.6 m high either side of a 12 cm wall, Lambertian walls, floor and furniture, and a
-//! glossy copper sphere on the table. No environment: the panel is the only light.
+//! of the dividing wall, faces away from the door into the next room, so its light bounces at
+//! least once before it slips into the camera's room, through the gap (12 cm) between the
+//! door's free edge and its jamb or over the leaf, whose top leaves open the wedge between it
+//! and the wall. Units are metres: two rooms 4 m wide and 2.6 m high either side of a 12 cm
+//! wall, Lambertian walls, floor and furniture, and a glossy copper sphere on the table. No
+//! environment: the panel is the only light.
 
 use glam::{Quat, Vec3};
 
@@ -31,9 +32,17 @@ const DOORWAY: [f32; 3] = [0.6, 1.5, 2.1];
 /// The door leaf's thickness.
 const LEAF: f32 = 0.04;
 /// The opening between the door's free edge and the jamb.
-pub const GAP: f32 = 0.12;
+const GAP: f32 = 0.12;
 /// The panel's radiance.
 const RADIANCE: f32 = 2500.0;
+
+/// How far the leaf, hinged on the doorway's left side, is swung into the next room (radians)
+/// for its free edge to stand GAP from the right jamb: a chord of the leaf's circle,
+/// 2 w sin(angle / 2).
+fn leaf_angle() -> f32 {
+    let [left, right, _] = DOORWAY;
+    2.0 * (0.5 * GAP / (right - left)).asin()
+}
 
 /// Builds the two rooms into `b`: 11 meshes, 1,426 triangles, one camera.
 pub(super) fn build(b: &mut SceneBuilder) -> Result<(), SceneError> {
@@ -82,17 +91,15 @@ pub(super) fn build(b: &mut SceneBuilder) -> Result<(), SceneError> {
         add_shape(b, name, wall, cuboid(from, to), Transform::IDENTITY)?;
     }
 
-    // The leaf, hinged on the doorway's left side, swung into the next room until its free
-    // edge is GAP from the right jamb: a chord of the leaf's circle, 2 w sin(angle / 2).
+    // The leaf, hinged on the doorway's left side, swung into the next room.
     let width = right - left;
-    let angle = 2.0 * (0.5 * GAP / width).asin();
     add_shape(
         b,
         "door leaf",
         wood,
         cuboid(Vec3::new(0.0, 0.0, -LEAF), Vec3::new(width, top, 0.0)),
         Transform::from_translation(Vec3::new(left, 0.0, -WALL))
-            .with_rotation(Quat::from_rotation_y(angle)),
+            .with_rotation(Quat::from_rotation_y(leaf_angle())),
     )?;
 
     // The panel on the next room's side of the dividing wall, facing away from the door.
@@ -189,7 +196,7 @@ mod tests {
         // Through the middle of the gap, between the leaf's free edge and the jamb, from the
         // camera's room to the next one.
         let [left, right, _] = DOORWAY;
-        let angle = 2.0 * (0.5 * GAP / (right - left)).asin();
+        let angle = leaf_angle();
         let edge = Vec3::new(
             left + (right - left) * angle.cos(),
             1.0,
