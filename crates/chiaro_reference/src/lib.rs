@@ -38,7 +38,7 @@ pub use error::ReferenceError;
 pub use integrator::{Integrator, PathSettings};
 pub use light_table::{LightEntry, LightSampling, LightTable};
 pub use output::{read_exr, write_exr, write_png, write_png_pixels};
-pub use render::{MAX_THREADS, RenderOutput, RenderSettings, TILE, render};
+pub use render::{MAX_THREADS, RenderOutput, RenderSettings, TILE, rel_mse, render};
 pub use scene::{RenderScene, prepare};
 
 use bevy_ecs::world::World;

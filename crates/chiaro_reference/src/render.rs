@@ -238,12 +238,18 @@ impl RenderOutput {
     /// relMSE against the truth is about a quarter of this figure.
     pub fn halves_rel_mse(&self) -> f64 {
         let [a, b] = &self.halves;
-        let sum: f64 = a
-            .iter()
-            .zip(b)
-            .flat_map(|(x, y)| (0..3).map(move |c| (x[c] as f64, y[c] as f64)))
-            .map(|(x, y)| (x - y).powi(2) / (y * y + 0.01))
-            .sum();
-        sum / (3 * a.len()).max(1) as f64
+        rel_mse(a, b)
     }
+}
+
+/// relMSE of `image` against `reference`, mean((x - y)^2 / (y^2 + 0.01)) over pixels and
+/// channels (the bench's metric, on linear HDR).
+pub fn rel_mse(image: &[Vec3], reference: &[Vec3]) -> f64 {
+    let sum: f64 = image
+        .iter()
+        .zip(reference)
+        .flat_map(|(x, y)| (0..3).map(move |c| (x[c] as f64, y[c] as f64)))
+        .map(|(x, y)| (x - y).powi(2) / (y * y + 0.01))
+        .sum();
+    sum / (3 * image.len()).max(1) as f64
 }

@@ -4,7 +4,9 @@
 //! the thread count.
 
 use bevy_ecs::world::World;
-use chiaro_reference::{Integrator, PathSettings, RenderOutput, RenderSettings, render_world};
+use chiaro_reference::{
+    Integrator, PathSettings, RenderOutput, RenderSettings, rel_mse, render_world,
+};
 use chiaro_scene::load_scene;
 use glam::Vec3;
 
@@ -37,17 +39,6 @@ fn mean(image: &[Vec3]) -> f64 {
 fn standard_error(out: &RenderOutput) -> f64 {
     let [a, b] = &out.halves;
     (mean(a) - mean(b)).abs() / 2.0
-}
-
-/// relMSE of `a` against `b` (epsilon 0.01, as the bench's).
-fn rel_mse(a: &[Vec3], b: &[Vec3]) -> f64 {
-    let sum: f64 = a
-        .iter()
-        .zip(b)
-        .flat_map(|(x, y)| (0..3).map(move |c| (x[c] as f64, y[c] as f64)))
-        .map(|(x, y)| (x - y).powi(2) / (y * y + 0.01))
-        .sum();
-    sum / (3 * a.len()) as f64
 }
 
 /// The whole estimator against the path tracer: their relMSE is within 2.5 times what their own

@@ -21,6 +21,7 @@ mod vertex;
 mod walk;
 
 use chiaro_bvh::Ray;
+use chiaro_shading::lights::triangle_area_normal;
 use chiaro_shading::rng::Pcg32;
 use glam::{Vec2, Vec3};
 
@@ -151,8 +152,8 @@ fn connect(
         }
         let infinite = !sample.distance.is_finite();
         let normal = match light_entry {
-            LightEntry::Triangle { vertices: v, .. } => {
-                (v[1] - v[0]).cross(v[2] - v[0]).normalize_or_zero()
+            LightEntry::Triangle { vertices, .. } => {
+                triangle_area_normal(*vertices).map_or(Vec3::ZERO, |(_, n)| n)
             }
             _ => Vec3::ZERO,
         };

@@ -6,6 +6,7 @@ use std::f32::consts::PI;
 
 use chiaro_shading::brdf::{self, SurfaceParams};
 use chiaro_shading::frame::Frame;
+use chiaro_shading::lights::triangle_area_normal;
 use glam::Vec3;
 
 use crate::light_table::LightEntry;
@@ -199,9 +200,8 @@ impl Vertex {
             }
             LightEntry::Directional { .. } => 0.0,
             LightEntry::Point { .. } | LightEntry::Spot { .. } => pick,
-            LightEntry::Triangle { vertices: v, .. } => {
-                let area = 0.5 * (v[1] - v[0]).cross(v[2] - v[0]).length();
-                if area > 0.0 { pick / area } else { 0.0 }
+            LightEntry::Triangle { vertices, .. } => {
+                triangle_area_normal(*vertices).map_or(0.0, |(area, _)| pick / area)
             }
         }
     }

@@ -6,8 +6,7 @@ use std::f32::consts::{PI, TAU};
 use chiaro_bvh::{Ray, offset_ray_origin};
 use chiaro_shading::brdf;
 use chiaro_shading::frame::Frame;
-use chiaro_shading::lights::range_window;
-use chiaro_shading::lights::spot_falloff;
+use chiaro_shading::lights::{range_window, spot_falloff, triangle_area_normal};
 use chiaro_shading::rng::Pcg32;
 use chiaro_shading::sampling::{
     UNIFORM_SPHERE_PDF, concentric_disk, cosine_hemisphere, uniform_sphere, uniform_triangle,
@@ -265,15 +264,15 @@ pub fn light_subpath(
         } => {
             let (b1, b2) = uniform_triangle(u_position);
             let p = t[0] * (1.0 - b1 - b2) + t[1] * b1 + t[2] * b2;
-            let cross = (t[1] - t[0]).cross(t[2] - t[0]);
-            let area = 0.5 * cross.length();
-            let Some(le) = triangle_emission(scene, instance, triangle, (b1, b2)) else {
+            let (Some((area, n)), Some(le)) = (
+                triangle_area_normal(t),
+                triangle_emission(scene, instance, triangle, (b1, b2)),
+            ) else {
                 return;
             };
-            if area <= 0.0 || le == Vec3::ZERO {
+            if le == Vec3::ZERO {
                 return;
             }
-            let n = cross / (2.0 * area);
             // A two-sided emitter picks a side, then a cosine-weighted direction on it.
             let (side, u, sides) = if two_sided && u_direction.x < 0.5 {
                 (-n, Vec2::new(2.0 * u_direction.x, u_direction.y), 2.0)
