@@ -11,6 +11,7 @@ use chiaro::eval::bench::{
     BenchProgress, BenchScene, BenchSettings, ReferenceRenderer, default_configs, default_scenes,
     extra_configs, run_bench, write_outputs,
 };
+use chiaro::reference::Integrator;
 
 /// What `chiaro bench` takes.
 #[derive(Args)]
@@ -42,6 +43,10 @@ pub struct BenchArgs {
     /// seeds, for a real GPU at sizes where the CPU would take far longer than the runs.
     #[arg(long, value_enum, default_value_t = ReferenceArg::Cpu)]
     reference: ReferenceArg,
+    /// The CPU reference's integrator (with --reference cpu): pt, ptlt, bdpt or mlt, as
+    /// `chiaro reference --integrator` (for mlt, --reference-spp is mutations per pixel).
+    #[arg(long, default_value = "pt")]
+    reference_integrator: Integrator,
     /// Frames rendered before timing starts.
     #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u32).range(0..=1000))]
     warmup: u32,
@@ -66,12 +71,15 @@ enum ReferenceArg {
     Gpu,
 }
 
-impl From<ReferenceArg> for ReferenceRenderer {
-    fn from(arg: ReferenceArg) -> Self {
-        match arg {
-            ReferenceArg::Cpu => ReferenceRenderer::Cpu,
-            ReferenceArg::Gpu => ReferenceRenderer::Gpu,
-        }
+/// What draws the references: `--reference` with `--reference-integrator`.
+fn reference_renderer(args: &BenchArgs) -> Result<ReferenceRenderer> {
+    match (args.reference, args.reference_integrator) {
+        (ReferenceArg::Cpu, integrator) => Ok(ReferenceRenderer::Cpu(integrator)),
+        (ReferenceArg::Gpu, Integrator::Pt) => Ok(ReferenceRenderer::Gpu),
+        (ReferenceArg::Gpu, other) => bail!(
+            "--reference-integrator {other:?} applies to the CPU reference: the GPU reference \
+             mode traces paths from the camera"
+        ),
     }
 }
 
@@ -113,7 +121,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         height: args.size.1,
         checkpoints: args.checkpoints.clone(),
         reference_spp: args.reference_spp,
-        reference_renderer: args.reference.into(),
+        reference_renderer: reference_renderer(args)?,
         cache_dir: args.out.join("cache"),
         warmup_frames: args.warmup,
         camera_path: !args.no_camera_path,

@@ -166,9 +166,14 @@ enum Command {
         /// point, through a light tree) or power (by power alone).
         #[arg(long, default_value = "tree")]
         light_sampling: LightSampling,
-        /// The estimator: pt (paths from the camera, next-event estimation, MIS) or bdpt
+        /// The estimator: pt (paths from the camera, next-event estimation, MIS); ptlt (pt
+        /// plus light tracing: light subpaths joined to the camera, MIS-weighted with pt's
+        /// strategies; light out of enclosed emitters); bdpt
         /// (bidirectional: camera and light subpaths joined by every strategy, MIS-weighted;
-        /// finds light camera paths rarely reach; light paths pick lights by power).
+        /// finds light camera paths rarely reach; light paths pick lights by power); or mlt
+        /// (Metropolis light transport over bdpt: Markov chains that mutate the bidirectional
+        /// samples, spending them where light reaches the image; --spp is mutations per
+        /// pixel).
         #[arg(long, default_value = "pt")]
         integrator: Integrator,
         #[command(flatten)]

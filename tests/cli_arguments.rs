@@ -94,6 +94,29 @@ fn numbers_that_mean_nothing_are_refused_by_argument() {
     );
 }
 
+/// An integrator is one the reference knows, and only the CPU reference takes one other than
+/// pt (the GPU reference mode traces from the camera).
+#[test]
+fn integrators_are_named_and_belong_to_the_cpu_reference() {
+    refused(
+        &["reference", "builtin:cornell", "--integrator", "vcm"],
+        "--integrator",
+        "expected pt, ptlt, bdpt or mlt",
+    );
+    let out = chiaro(&[
+        "bench",
+        "--scenes",
+        "builtin:cornell",
+        "--reference",
+        "gpu",
+        "--reference-integrator",
+        "mlt",
+    ]);
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("applies to the CPU reference"), "{err}");
+}
+
 #[test]
 fn a_render_over_the_memory_limit_is_refused_with_both_figures() {
     let out = chiaro(&[

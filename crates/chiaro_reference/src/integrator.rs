@@ -50,6 +50,14 @@ pub enum Integrator {
     /// Bidirectional path tracing: a camera and a light subpath, joined by every connection
     /// strategy and weighted by MIS ([`crate::bdpt`]).
     Bdpt,
+    /// The path tracer's strategies with light tracing to the camera added: the bidirectional
+    /// estimator's camera paths reaching emitters (s = 0), next-event estimation (s = 1) and
+    /// light subpaths seen by the camera (t = 1), weighted by MIS among these alone. What a
+    /// camera-path renderer would gain from light tracing (caustics seen on diffuse surfaces).
+    PtLt,
+    /// Primary-sample-space Metropolis light transport over the bidirectional estimator
+    /// ([`crate::mlt`]): `spp` is mutations per pixel.
+    Mlt,
     /// One strategy of the bidirectional estimator alone, unweighted: `s` light and `t` camera
     /// vertices (t >= 1, s + t >= 2), so only paths of exactly s + t - 2 bounces. Each such
     /// image is an unbiased estimate of the same light, which makes it a check of the
@@ -69,8 +77,10 @@ impl std::str::FromStr for Integrator {
         match s {
             "pt" => Ok(Self::Pt),
             "bdpt" => Ok(Self::Bdpt),
+            "ptlt" => Ok(Self::PtLt),
+            "mlt" => Ok(Self::Mlt),
             other => Err(format!(
-                "unknown integrator '{other}' (expected pt or bdpt)"
+                "unknown integrator '{other}' (expected pt, ptlt, bdpt or mlt)"
             )),
         }
     }

@@ -7,8 +7,10 @@
 //! (unbiased) after a few bounces; alpha masks, normal maps and bilinear textures honoured. Tiles
 //! run on rayon and the image for a seed does not depend on the thread count. Two independent
 //! halves of the samples are kept, so the reference's own residual noise can be reported.
-//! [`Integrator::Bdpt`] traces bidirectionally instead, for light that camera paths rarely
-//! reach (through a door ajar, from inside a lamp shade, in caustics).
+//! For light that camera paths rarely reach (through a door ajar, from inside a lamp shade, in
+//! caustics) [`Integrator::PtLt`] adds light tracing to the camera, [`Integrator::Bdpt`] traces
+//! bidirectionally and [`Integrator::Mlt`] runs Metropolis light transport over the
+//! bidirectional tracer.
 //!
 //! ```
 //! use bevy_ecs::world::World;
@@ -27,7 +29,9 @@ mod camera;
 mod error;
 mod integrator;
 mod light_table;
+mod mlt;
 mod output;
+mod random;
 mod render;
 mod scene;
 mod surface;

@@ -11,9 +11,10 @@ use glam::Vec3;
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
-use crate::bdpt::{self, Splat, Subpaths};
+use crate::bdpt::{self, Splat, Strategies, Subpaths};
 use crate::error::ReferenceError;
 use crate::integrator::{Integrator, PathSettings, radiance};
+use crate::mlt;
 use crate::scene::RenderScene;
 
 /// Side of the square tiles the image is split into.
@@ -88,8 +89,9 @@ fn render_tile(scene: &RenderScene, settings: &RenderSettings, tile: (u32, u32))
     let mut splats = [Vec::new(), Vec::new()];
     let mut subpaths = Subpaths::default();
     let strategy = match settings.path.integrator {
-        Integrator::BdptStrategy { s, t } => Some((s as usize, t as usize)),
-        _ => None,
+        Integrator::BdptStrategy { s, t } => Strategies::One(s as usize, t as usize),
+        Integrator::PtLt => Strategies::CameraAndLightTracing,
+        _ => Strategies::All,
     };
     for y in y0..(y0 + TILE).min(settings.height) {
         for x in x0..(x0 + TILE).min(settings.width) {
@@ -104,9 +106,14 @@ fn render_tile(scene: &RenderScene, settings: &RenderSettings, tile: (u32, u32))
                         let ray = scene.camera.ray(x, y, rng.next_vec2());
                         radiance(scene, ray, &mut rng, &settings.path)
                     }
-                    Integrator::Bdpt | Integrator::BdptStrategy { .. } => bdpt::sample(
+                    // Metropolis sampling does not render by tiles.
+                    Integrator::Bdpt
+                    | Integrator::PtLt
+                    | Integrator::BdptStrategy { .. }
+                    | Integrator::Mlt => bdpt::sample(
                         scene,
                         (x, y),
+                        rng.next_vec2(),
                         &mut rng,
                         &settings.path,
                         strategy,
@@ -140,7 +147,7 @@ pub fn render(
     }
     if settings.path.integrator != Integrator::Pt && !scene.camera.is_perspective() {
         return Err(ReferenceError::Settings(
-            "bdpt needs a perspective camera: light paths cannot reach an orthographic one"
+            "bdpt and mlt need a perspective camera: light paths cannot reach an orthographic one"
                 .to_string(),
         ));
     }
@@ -151,62 +158,89 @@ pub fn render(
             "{threads} worker threads: need 1..={MAX_THREADS}"
         )));
     }
-    let tiles: Vec<(u32, u32)> = (0..settings.height.div_ceil(TILE))
-        .flat_map(|ty| (0..settings.width.div_ceil(TILE)).map(move |tx| (tx, ty)))
-        .collect();
     let bar = if progress {
-        ProgressBar::new(tiles.len() as u64)
+        ProgressBar::new(0)
     } else {
         ProgressBar::hidden()
     };
     bar.set_style(
-        ProgressStyle::with_template("{bar:40} {pos}/{len} tiles, {elapsed} elapsed, ETA {eta}")
+        ProgressStyle::with_template("{bar:40} {pos}/{len} {msg}, {elapsed} elapsed, ETA {eta}")
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     let start = Instant::now();
-    let pixels = (settings.width * settings.height) as usize;
-    let mut sums = vec![PixelSums::default(); pixels];
-    let mut splatted = [vec![Vec3::ZERO; pixels], vec![Vec3::ZERO; pixels]];
-    let mut non_finite_samples = 0;
-    // Tiles go in batches so that their splats are merged (in tile order) before they pile up.
-    let mut work = || {
-        let batch = 4 * rayon::current_num_threads();
-        for chunk in tiles.chunks(batch) {
-            let outputs: Vec<TileOutput> = chunk
-                .par_iter()
-                .map(|&tile| {
-                    let output = render_tile(scene, settings, tile);
-                    bar.inc(1);
-                    output
-                })
-                .collect();
-            for output in outputs {
-                for (index, pixel) in output.pixels {
-                    sums[index as usize] = pixel;
-                }
-                for (half, list) in output.splats.iter().enumerate() {
-                    for splat in list {
-                        let x = (splat.raster.x as u32).min(settings.width - 1);
-                        let y = (splat.raster.y as u32).min(settings.height - 1);
-                        if splat.value.is_finite() {
-                            splatted[half][(y * settings.width + x) as usize] += splat.value;
-                        } else {
-                            non_finite_samples += 1;
-                        }
-                    }
-                }
-            }
+    let work = || match settings.path.integrator {
+        Integrator::Mlt => {
+            bar.set_message("chains");
+            let out = mlt::render(scene, settings, &bar);
+            (out.image, out.halves, out.non_finite_samples, out.paths)
+        }
+        _ => {
+            bar.set_message("tiles");
+            render_tiles(scene, settings, &bar)
         }
     };
-    match settings.threads {
+    let (image, halves, non_finite_samples, paths) = match settings.threads {
         Some(threads) => rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
             .map_err(|e| ReferenceError::Settings(format!("cannot start {threads} threads: {e}")))?
             .install(work),
         None => work(),
-    }
+    };
     bar.finish_and_clear();
+    Ok(RenderOutput {
+        width: settings.width,
+        height: settings.height,
+        image,
+        halves,
+        non_finite_samples,
+        paths,
+        elapsed: start.elapsed(),
+    })
+}
+
+/// The image, its two halves, the samples dropped and the paths traced.
+type Rendered = (Vec<Vec3>, [Vec<Vec3>; 2], u64, u64);
+
+/// Renders the image tile by tile, a path (or a bidirectional sample) at a time per pixel;
+/// `bar` counts tiles.
+fn render_tiles(scene: &RenderScene, settings: &RenderSettings, bar: &ProgressBar) -> Rendered {
+    let tiles: Vec<(u32, u32)> = (0..settings.height.div_ceil(TILE))
+        .flat_map(|ty| (0..settings.width.div_ceil(TILE)).map(move |tx| (tx, ty)))
+        .collect();
+    bar.set_length(tiles.len() as u64);
+    let pixels = (settings.width * settings.height) as usize;
+    let mut sums = vec![PixelSums::default(); pixels];
+    let mut splatted = [vec![Vec3::ZERO; pixels], vec![Vec3::ZERO; pixels]];
+    let mut non_finite_samples = 0;
+    // Tiles go in batches so that their splats are merged (in tile order) before they pile up.
+    let batch = 4 * rayon::current_num_threads();
+    for chunk in tiles.chunks(batch) {
+        let outputs: Vec<TileOutput> = chunk
+            .par_iter()
+            .map(|&tile| {
+                let output = render_tile(scene, settings, tile);
+                bar.inc(1);
+                output
+            })
+            .collect();
+        for output in outputs {
+            for (index, pixel) in output.pixels {
+                sums[index as usize] = pixel;
+            }
+            for (half, list) in output.splats.iter().enumerate() {
+                for splat in list {
+                    let x = (splat.raster.x as u32).min(settings.width - 1);
+                    let y = (splat.raster.y as u32).min(settings.height - 1);
+                    if splat.value.is_finite() {
+                        splatted[half][(y * settings.width + x) as usize] += splat.value;
+                    } else {
+                        non_finite_samples += 1;
+                    }
+                }
+            }
+        }
+    }
     let mut halves = [vec![Vec3::ZERO; pixels], vec![Vec3::ZERO; pixels]];
     let counts = [settings.spp.div_ceil(2) as f32, (settings.spp / 2) as f32];
     for (index, (pixel, dropped)) in sums.iter().enumerate() {
@@ -220,15 +254,8 @@ pub fn render(
         .zip(&halves[1])
         .map(|(a, b)| (*a * counts[0] + *b * counts[1]) / settings.spp as f32)
         .collect();
-    Ok(RenderOutput {
-        width: settings.width,
-        height: settings.height,
-        image,
-        halves,
-        non_finite_samples,
-        paths: pixels as u64 * settings.spp as u64,
-        elapsed: start.elapsed(),
-    })
+    let paths = pixels as u64 * settings.spp as u64;
+    (image, halves, non_finite_samples, paths)
 }
 
 impl RenderOutput {

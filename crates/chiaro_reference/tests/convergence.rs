@@ -1,9 +1,11 @@
 //! The reference converges to known answers: the white furnace, a point light over a Lambertian
-//! plane (closed form), noise falling as 1/spp, Russian roulette unbiased, and images that do not
-//! depend on the thread count.
+//! plane (closed form), noise falling as 1/spp, its own-noise estimate predicting its error,
+//! Russian roulette unbiased, and images that do not depend on the thread count.
 
 use bevy_ecs::world::World;
-use chiaro_reference::{LightSampling, PathSettings, RenderOutput, RenderSettings, render_world};
+use chiaro_reference::{
+    LightSampling, PathSettings, RenderOutput, RenderSettings, rel_mse, render_world,
+};
 use chiaro_scene::builtin::shapes::floor;
 use chiaro_scene::{
     Camera, Light, LightKind, Material, Node, Projection, SceneBuilder, Transform, load_scene,
@@ -157,6 +159,35 @@ fn noise_between_halves_falls_as_one_over_spp() {
     assert!(
         (slope + 1.0).abs() <= 0.1,
         "log-log slope {slope} (relMSE {low} at 64 spp, {high} at 640)"
+    );
+}
+
+/// The reference's own-noise estimate, a quarter of its halves' relMSE, predicts its error
+/// against a render 16 times longer: over three seeds, the measured relMSE is within a third of
+/// the prediction (the short render's own noise plus the long one's).
+#[test]
+fn own_noise_predicts_the_error_against_a_longer_render() {
+    let scene = "builtin:hard-cases?case=lit-group";
+    let settings = |spp, seed| RenderSettings {
+        width: 16,
+        height: 16,
+        spp,
+        seed,
+        ..RenderSettings::default()
+    };
+    let long = render(scene, settings(64 * 16, 100));
+    let long_noise = long.halves_rel_mse() / 4.0;
+    let (mut predicted, mut measured) = (0.0, 0.0);
+    for seed in [1, 2, 3] {
+        let short = render(scene, settings(64, seed));
+        predicted += short.halves_rel_mse() / 4.0 + long_noise;
+        measured += rel_mse(&short.image, &long.image);
+    }
+    let ratio = measured / predicted;
+    eprintln!("relMSE against the long render {measured:.3e}, predicted {predicted:.3e}");
+    assert!(
+        (0.75..=1.33).contains(&ratio),
+        "measured {measured:.3e} against predicted {predicted:.3e}: ratio {ratio:.2}"
     );
 }
 

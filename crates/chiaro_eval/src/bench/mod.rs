@@ -483,7 +483,7 @@ pub fn run_bench(
         height: settings.height,
         rel_mse_epsilon: CompareSettings::default().rel_mse_epsilon,
         flip_tonemapping: "Khronos PBR Neutral, exposure 1, 67 pixels per degree".into(),
-        reference_renderer: settings.reference_renderer.name().into(),
+        reference_renderer: settings.reference_renderer.name(),
         scenes: Vec::new(),
     };
     for scene in scenes {

@@ -8,7 +8,9 @@ use std::time::Instant;
 
 use bevy_ecs::world::World;
 use chiaro_gpu::{FrameSettings, RenderMode, Renderer};
-use chiaro_reference::{PathSettings, RenderSettings, read_exr, render_world, write_exr};
+use chiaro_reference::{
+    Integrator, PathSettings, RenderSettings, read_exr, render_world, write_exr,
+};
 use chiaro_scene::SceneInfo;
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
@@ -22,23 +24,32 @@ use crate::metrics::rel_mse;
 const REFERENCE_SEED: u64 = 0x005e_ed0f_7e57;
 
 /// Which renderer draws the converged references.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ReferenceRenderer {
-    /// The CPU reference path tracer on every core: code apart from the GPU frame under test.
-    #[default]
-    Cpu,
+    /// The CPU reference on every core, with this integrator: code apart from the GPU frame
+    /// under test.
+    Cpu(Integrator),
     /// The GPU frame's reference mode, in two halves of other seeds than the runs': for a
     /// real GPU at sizes where the CPU reference would take many times longer than the runs
     /// (the hard-case suite tests that the two references agree).
     Gpu,
 }
 
+impl Default for ReferenceRenderer {
+    fn default() -> Self {
+        Self::Cpu(Integrator::Pt)
+    }
+}
+
 impl ReferenceRenderer {
-    /// Its name in the results.
-    pub fn name(self) -> &'static str {
+    /// Its name in the results: the CPU's names its integrator unless it is the path tracer.
+    pub fn name(self) -> String {
         match self {
-            Self::Cpu => "CPU reference",
-            Self::Gpu => "GPU reference mode",
+            Self::Cpu(Integrator::Pt) => "CPU reference".to_owned(),
+            Self::Cpu(Integrator::Bdpt) => "CPU reference (bdpt)".to_owned(),
+            Self::Cpu(Integrator::Mlt) => "CPU reference (mlt)".to_owned(),
+            Self::Cpu(integrator) => format!("CPU reference ({integrator:?})"),
+            Self::Gpu => "GPU reference mode".to_owned(),
         }
     }
 }
@@ -122,7 +133,7 @@ pub fn converged_reference(
     cache_dir: &Path,
 ) -> Result<Reference, BenchError> {
     let renderer_key = match drawn_by {
-        ReferenceRenderer::Cpu => drawn_by.name().to_owned(),
+        ReferenceRenderer::Cpu(_) => drawn_by.name(),
         ReferenceRenderer::Gpu => format!("{} {}", drawn_by.name(), renderer.context.describe()),
     };
     let held = SceneInfo::gather(world);
@@ -150,12 +161,16 @@ pub fn converged_reference(
     }
     let start = Instant::now();
     let (pixels, noise) = match drawn_by {
-        ReferenceRenderer::Cpu => {
+        ReferenceRenderer::Cpu(integrator) => {
             let settings = RenderSettings {
                 width,
                 height,
                 spp,
                 seed: REFERENCE_SEED,
+                path: PathSettings {
+                    integrator,
+                    ..PathSettings::default()
+                },
                 ..RenderSettings::default()
             };
             let output = render_world(world, &settings, false)?;
@@ -222,6 +237,16 @@ mod tests {
         assert_ne!(base, cache_key(&scene, &held, (64, 32, 16), "cpu"));
         assert_ne!(base, cache_key(&scene, &held, (64, 64, 32), "cpu"));
         assert_ne!(base, cache_key(&scene, &held, (64, 64, 16), "gpu"));
+        let integrators = [Integrator::Pt, Integrator::Bdpt, Integrator::Mlt].map(|i| {
+            cache_key(
+                &scene,
+                &held,
+                (64, 64, 16),
+                &ReferenceRenderer::Cpu(i).name(),
+            )
+        });
+        assert_ne!(integrators[0], integrators[1]);
+        assert_ne!(integrators[1], integrators[2]);
         assert_ne!(
             base,
             cache_key(

@@ -8,6 +8,7 @@
 //! whose density is zero where the path's is not (the environment where it is not
 //! light-sampled; a light path cannot start there).
 
+use super::Strategies;
 use super::vertex::Vertex;
 use crate::scene::RenderScene;
 
@@ -41,14 +42,16 @@ fn ratio(d: Densities) -> f32 {
     }
 }
 
-/// The weight of joining light vertex `s` - 1 to camera vertex `t` - 1; `sampled` is the
-/// vertex that strategy drew afresh (the light point for s = 1, the eye for t = 1).
+/// The weight of joining light vertex `s` - 1 to camera vertex `t` - 1, among the strategies
+/// `taken`; `sampled` is the vertex that strategy drew afresh (the light point for s = 1, the
+/// eye for t = 1).
 pub fn weight(
     scene: &RenderScene,
     light: &[Vertex],
     camera: &[Vertex],
     (s, t): (usize, usize),
     sampled: Option<&Vertex>,
+    taken: Strategies,
 ) -> f32 {
     if s + t == 2 {
         return 1.0;
@@ -98,9 +101,10 @@ pub fn weight(
 
     let mut sum = 0.0;
     let mut r = 1.0;
+    // The strategy with i camera vertices and s + t - i light vertices.
     for i in (1..t).rev() {
         r *= ratio(cam[i]);
-        if !cam[i].delta && !cam[i - 1].delta {
+        if !cam[i].delta && !cam[i - 1].delta && taken.takes(s + t - i, i) {
             sum += r * r;
         }
     }
@@ -110,10 +114,11 @@ pub fn weight(
         _ => light[0].is_delta_light(scene),
     };
     r = 1.0;
+    // The strategy with i light vertices and s + t - i camera vertices.
     for i in (0..s).rev() {
         r *= ratio(lig[i]);
         let delta_before = if i > 0 { lig[i - 1].delta } else { delta_light };
-        if !lig[i].delta && !delta_before {
+        if !lig[i].delta && !delta_before && taken.takes(i, s + t - i) {
             sum += r * r;
         }
     }

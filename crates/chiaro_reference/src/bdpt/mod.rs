@@ -22,11 +22,11 @@ mod walk;
 
 use chiaro_bvh::Ray;
 use chiaro_shading::lights::triangle_area_normal;
-use chiaro_shading::rng::Pcg32;
 use glam::{Vec2, Vec3};
 
 use crate::integrator::{PathSettings, SHADOW_RAY_REACH, leaving_origin, sample_light};
 use crate::light_table::LightEntry;
+use crate::random::{RandomSource, Stream};
 use crate::scene::RenderScene;
 use vertex::{Vertex, VertexKind, bsdf_eval, importance_factor};
 use walk::{Roulette, camera_subpath, light_subpath};
@@ -38,6 +38,30 @@ pub struct Splat {
     pub raster: Vec2,
     /// The contribution of one light path (before division by the samples per pixel).
     pub value: Vec3,
+}
+
+/// Which connection strategies a sample takes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Strategies {
+    /// Every one, weighted by MIS over all.
+    All,
+    /// Those of a path tracer that also traces light to the camera: the camera path reaching
+    /// an emitter (s = 0), next-event estimation (s = 1) and light tracing (t = 1), weighted by
+    /// MIS over these alone.
+    CameraAndLightTracing,
+    /// One strategy (s, t) alone, unweighted.
+    One(usize, usize),
+}
+
+impl Strategies {
+    /// True when strategy (s, t) is taken.
+    pub fn takes(self, s: usize, t: usize) -> bool {
+        match self {
+            Self::All => true,
+            Self::CameraAndLightTracing => s <= 1 || t == 1,
+            Self::One(s1, t1) => (s, t) == (s1, t1),
+        }
+    }
 }
 
 /// Reusable subpath storage for one worker.
@@ -100,7 +124,7 @@ fn connect(
     light: &[Vertex],
     camera: &[Vertex],
     (s, t): (usize, usize),
-    rng: &mut Pcg32,
+    rng: &mut impl RandomSource,
 ) -> Option<(Vec3, Option<Vertex>, Option<Vec2>)> {
     let pt = &camera[t - 1];
     if s == 0 {
@@ -197,15 +221,19 @@ fn connect(
     Some((value, None, None))
 }
 
-/// One sample of pixel (x, y): the radiance the strategies with a camera path of two or more
-/// vertices bring to it; the light-tracing strategy's contributions (t = 1) go to `splats`.
-/// `only` keeps one strategy (s, t), unweighted.
+/// One sample of pixel (x, y) at `jitter` within it: the radiance the strategies with a camera
+/// path of two or more vertices bring to it; the light-tracing strategy's contributions (t = 1)
+/// go to `splats`. `strategies` says which are taken. The camera subpath draws from
+/// the stream `rng` is on (the caller draws the film position there first); the light subpath
+/// and the connections start streams of their own.
+#[allow(clippy::too_many_arguments)]
 pub fn sample(
     scene: &RenderScene,
     pixel: (u32, u32),
-    rng: &mut Pcg32,
+    jitter: Vec2,
+    rng: &mut impl RandomSource,
     settings: &PathSettings,
-    only: Option<(usize, usize)>,
+    strategies: Strategies,
     subpaths: &mut Subpaths,
     splats: &mut Vec<Splat>,
 ) -> Vec3 {
@@ -216,22 +244,27 @@ pub fn sample(
     };
     let roulette = Roulette(settings.russian_roulette_from);
     let Subpaths { camera, light } = subpaths;
-    camera_subpath(scene, pixel, rng, depth, &roulette, camera);
+    camera_subpath(scene, pixel, jitter, rng, depth, &roulette, camera);
+    rng.start_stream(Stream::Light);
     light_subpath(scene, rng, depth, &roulette, light);
+    rng.start_stream(Stream::Connect);
     let mut total = Vec3::ZERO;
     for t in 1..=camera.len() {
         for s in 0..=light.len() {
             let bounces = (s + t) as i64 - 2;
-            let skipped = only.is_some_and(|strategy| strategy != (s, t));
-            if bounces < 0 || bounces > depth as i64 || (s == 1 && t == 1) || skipped {
+            if bounces < 0
+                || bounces > depth as i64
+                || (s == 1 && t == 1)
+                || !strategies.takes(s, t)
+            {
                 continue;
             }
             let Some((value, drawn, raster)) = connect(scene, light, camera, (s, t), rng) else {
                 continue;
             };
-            let weighted = match only {
-                Some(_) => value,
-                None => value * mis::weight(scene, light, camera, (s, t), drawn.as_ref()),
+            let weighted = match strategies {
+                Strategies::One(..) => value,
+                _ => value * mis::weight(scene, light, camera, (s, t), drawn.as_ref(), strategies),
             };
             match raster {
                 Some(raster) => splats.push(Splat {

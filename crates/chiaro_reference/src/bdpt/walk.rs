@@ -7,7 +7,6 @@ use chiaro_bvh::{Ray, offset_ray_origin};
 use chiaro_shading::brdf;
 use chiaro_shading::frame::Frame;
 use chiaro_shading::lights::{range_window, spot_falloff, triangle_area_normal};
-use chiaro_shading::rng::Pcg32;
 use chiaro_shading::sampling::{
     UNIFORM_SPHERE_PDF, concentric_disk, cosine_hemisphere, uniform_sphere, uniform_triangle,
 };
@@ -16,6 +15,7 @@ use glam::{Vec2, Vec3};
 use super::vertex::{Vertex, VertexKind, bsdf_pdf, importance_factor};
 use crate::integrator::{leaving_origin, triangle_emission};
 use crate::light_table::LightEntry;
+use crate::random::RandomSource;
 use crate::scene::RenderScene;
 use crate::surface::surface_at;
 
@@ -37,7 +37,7 @@ pub struct Roulette(pub Option<u32>);
 #[allow(clippy::too_many_arguments)]
 fn random_walk(
     scene: &RenderScene,
-    rng: &mut Pcg32,
+    rng: &mut impl RandomSource,
     mut ray: Ray,
     mut beta: Vec3,
     mut pdf: f32,
@@ -141,18 +141,19 @@ fn random_walk(
     }
 }
 
-/// The camera subpath through pixel (x, y): the eye, then up to `max_depth` + 1 surface
-/// vertices (or an environment vertex where it escapes).
+/// The camera subpath through pixel (x, y) at `jitter` within it: the eye, then up to
+/// `max_depth` + 1 surface vertices (or an environment vertex where it escapes).
 pub fn camera_subpath(
     scene: &RenderScene,
     (x, y): (u32, u32),
-    rng: &mut Pcg32,
+    jitter: Vec2,
+    rng: &mut impl RandomSource,
     max_depth: u32,
     roulette: &Roulette,
     path: &mut Vec<Vertex>,
 ) {
     path.clear();
-    let ray = scene.camera.ray(x, y, rng.next_vec2());
+    let ray = scene.camera.ray(x, y, jitter);
     path.push(Vertex::new(
         VertexKind::Camera,
         scene.camera.eye(),
@@ -192,7 +193,7 @@ fn uniform_cone(axis: Vec3, outer: f32, u: Vec2) -> Vec3 {
 /// to `max_depth` surface vertices.
 pub fn light_subpath(
     scene: &RenderScene,
-    rng: &mut Pcg32,
+    rng: &mut impl RandomSource,
     max_depth: u32,
     roulette: &Roulette,
     path: &mut Vec<Vertex>,

@@ -1,0 +1,93 @@
+//! Every integrator converges to the same image on every built-in scene and on the shared
+//! sample models (under their sky): the path tracer with light tracing, bidirectional path
+//! tracing and Metropolis light transport against the path tracer, each within what the images' own noise explains. At 16x16 and
+//! these budgets the ratio of relMSE to that noise was 0.5 to 1.3 on every scene; on door, lamp
+//! and caustic the path tracer's own noise is large, so there the test is loose.
+
+use std::path::{Path, PathBuf};
+
+use bevy_ecs::world::World;
+use chiaro_reference::{
+    Integrator, PathSettings, RenderOutput, RenderSettings, rel_mse, render_world,
+};
+use chiaro_scene::{Environment, load_scene};
+
+const SIZE: u32 = 16;
+
+fn render(spec: &str, sky: Option<&Path>, integrator: Integrator, spp: u32) -> RenderOutput {
+    let mut world = World::new();
+    load_scene(&mut world, spec).unwrap();
+    if let Some(path) = sky {
+        let (environment, _) = Environment::from_file(path, 1.0).unwrap();
+        world.insert_resource(environment);
+    }
+    let settings = RenderSettings {
+        width: SIZE,
+        height: SIZE,
+        spp,
+        seed: 5,
+        threads: None,
+        path: PathSettings {
+            integrator,
+            ..PathSettings::default()
+        },
+    };
+    let out = render_world(&mut world, &settings, false).unwrap();
+    assert_eq!(out.non_finite_samples, 0, "{spec} {integrator:?}");
+    out
+}
+
+/// The relMSE of ptlt's, bdpt's and mlt's images against pt's is under 2.5 times the combined noise:
+/// a quarter of each image's halves' relMSE, summed.
+#[test]
+fn every_integrator_converges_to_the_path_tracer_everywhere() {
+    let mut scenes: Vec<(String, Option<PathBuf>)> = [
+        "builtin:cornell",
+        "builtin:furnace",
+        "builtin:hard-cases",
+        "builtin:instances",
+        "builtin:many-lights",
+        "builtin:door",
+        "builtin:lamp",
+        "builtin:caustic",
+        "builtin:walkthrough?size=1&detail=1",
+    ]
+    .into_iter()
+    .map(|s| (s.to_owned(), None))
+    .collect();
+    let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/scenes");
+    let sky = shared.join("qwantani_afternoon_puresky_1k.hdr");
+    assert!(
+        sky.exists(),
+        "{} is missing: this test needs the shared test data folder (../shared/scenes) beside \
+         the checkout",
+        sky.display()
+    );
+    for model in [
+        "EmissiveStrengthTest",
+        "MetalRoughSpheresNoTextures",
+        "NormalTangentTest",
+        "SimpleInstancing",
+        "TextureSettingsTest",
+    ] {
+        let file = shared.join(format!("{model}.glb"));
+        scenes.push((file.to_str().unwrap().to_owned(), Some(sky.clone())));
+    }
+    for (spec, sky) in &scenes {
+        let pt = render(spec, sky.as_deref(), Integrator::Pt, 256);
+        for (integrator, spp) in [
+            (Integrator::PtLt, 128),
+            (Integrator::Bdpt, 128),
+            (Integrator::Mlt, 128),
+        ] {
+            let out = render(spec, sky.as_deref(), integrator, spp);
+            let noise = (pt.halves_rel_mse() + out.halves_rel_mse()) / 4.0;
+            let error = rel_mse(&out.image, &pt.image);
+            eprintln!("{spec} {integrator:?}: relMSE {error:.3e}, noise {noise:.3e}");
+            assert!(
+                error < 2.5 * noise,
+                "{spec} {integrator:?}: relMSE {error:.3e} against pt, noise {noise:.3e}"
+            );
+        }
+    }
+}
