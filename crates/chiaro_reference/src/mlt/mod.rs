@@ -61,7 +61,7 @@ pub struct MltOutput {
     pub halves: [Vec<Vec3>; 2],
     /// Samples whose contributions were not finite (counted as zero).
     pub non_finite_samples: u64,
-    /// Paths traced: bootstrap samples and mutations.
+    /// Paths traced: the pilot image's and the bootstrap's samples, and the mutations.
     pub paths: u64,
 }
 
@@ -376,6 +376,6 @@ pub fn render(scene: &RenderScene, settings: &RenderSettings, bar: &ProgressBar)
         image,
         halves: films,
         non_finite_samples: non_finite,
-        paths: bootstrap + counts[0] + counts[1],
+        paths: 2 * bootstrap + counts[0] + counts[1],
     }
 }
