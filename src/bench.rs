@@ -77,7 +77,7 @@ fn reference_renderer(args: &BenchArgs) -> Result<ReferenceRenderer> {
         (ReferenceArg::Cpu, integrator) => Ok(ReferenceRenderer::Cpu(integrator)),
         (ReferenceArg::Gpu, Integrator::Pt) => Ok(ReferenceRenderer::Gpu),
         (ReferenceArg::Gpu, other) => bail!(
-            "--reference-integrator {other:?} applies to the CPU reference: the GPU reference \
+            "--reference-integrator {other} applies to the CPU reference: the GPU reference \
              mode traces paths from the camera"
         ),
     }

@@ -70,6 +70,19 @@ pub enum Integrator {
     },
 }
 
+impl std::fmt::Display for Integrator {
+    /// Its name on the command line; one strategy reads `bdpt(s, t)`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Pt => f.write_str("pt"),
+            Self::PtLt => f.write_str("ptlt"),
+            Self::Bdpt => f.write_str("bdpt"),
+            Self::Mlt => f.write_str("mlt"),
+            Self::BdptStrategy { s, t } => write!(f, "bdpt({s}, {t})"),
+        }
+    }
+}
+
 impl std::str::FromStr for Integrator {
     type Err = String;
 

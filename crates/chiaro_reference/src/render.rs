@@ -171,15 +171,14 @@ pub fn render(
     let work = || match settings.path.integrator {
         Integrator::Mlt => {
             bar.set_message("chains");
-            let out = mlt::render(scene, settings, &bar);
-            (out.image, out.halves, out.non_finite_samples, out.paths)
+            mlt::render(scene, settings, &bar)
         }
         _ => {
             bar.set_message("tiles");
             render_tiles(scene, settings, &bar)
         }
     };
-    let (image, halves, non_finite_samples, paths) = match settings.threads {
+    let rendered = match settings.threads {
         Some(threads) => rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
@@ -191,16 +190,46 @@ pub fn render(
     Ok(RenderOutput {
         width: settings.width,
         height: settings.height,
-        image,
-        halves,
-        non_finite_samples,
-        paths,
+        image: rendered.image,
+        halves: rendered.halves,
+        non_finite_samples: rendered.non_finite_samples,
+        paths: rendered.paths,
         elapsed: start.elapsed(),
     })
 }
 
-/// The image, its two halves, the samples dropped and the paths traced.
-type Rendered = (Vec<Vec3>, [Vec<Vec3>; 2], u64, u64);
+/// What an estimator renders: the image, its two independent halves, the samples dropped and
+/// the paths traced.
+pub(crate) struct Rendered {
+    pub image: Vec<Vec3>,
+    pub halves: [Vec<Vec3>; 2],
+    pub non_finite_samples: u64,
+    pub paths: u64,
+}
+
+impl Rendered {
+    /// The image from its halves, each the mean of `counts` samples.
+    pub fn from_halves(
+        halves: [Vec<Vec3>; 2],
+        counts: [u64; 2],
+        non_finite_samples: u64,
+        paths: u64,
+    ) -> Self {
+        let weights = counts.map(|c| c as f32);
+        let total = (weights[0] + weights[1]).max(1.0);
+        let image = halves[0]
+            .iter()
+            .zip(&halves[1])
+            .map(|(a, b)| (*a * weights[0] + *b * weights[1]) / total)
+            .collect();
+        Self {
+            image,
+            halves,
+            non_finite_samples,
+            paths,
+        }
+    }
+}
 
 /// Renders the image tile by tile, a path (or a bidirectional sample) at a time per pixel;
 /// `bar` counts tiles.
@@ -230,10 +259,8 @@ fn render_tiles(scene: &RenderScene, settings: &RenderSettings, bar: &ProgressBa
             }
             for (half, list) in output.splats.iter().enumerate() {
                 for splat in list {
-                    let x = (splat.raster.x as u32).min(settings.width - 1);
-                    let y = (splat.raster.y as u32).min(settings.height - 1);
                     if splat.value.is_finite() {
-                        splatted[half][(y * settings.width + x) as usize] += splat.value;
+                        splatted[half][splat.pixel(settings.width, settings.height)] += splat.value;
                     } else {
                         non_finite_samples += 1;
                     }
@@ -242,20 +269,15 @@ fn render_tiles(scene: &RenderScene, settings: &RenderSettings, bar: &ProgressBa
         }
     }
     let mut halves = [vec![Vec3::ZERO; pixels], vec![Vec3::ZERO; pixels]];
-    let counts = [settings.spp.div_ceil(2) as f32, (settings.spp / 2) as f32];
+    let counts = [settings.spp.div_ceil(2) as u64, (settings.spp / 2) as u64];
     for (index, (pixel, dropped)) in sums.iter().enumerate() {
         for k in 0..2 {
-            halves[k][index] = (pixel[k] + splatted[k][index]) / counts[k];
+            halves[k][index] = (pixel[k] + splatted[k][index]) / counts[k] as f32;
         }
         non_finite_samples += dropped;
     }
-    let image = halves[0]
-        .iter()
-        .zip(&halves[1])
-        .map(|(a, b)| (*a * counts[0] + *b * counts[1]) / settings.spp as f32)
-        .collect();
     let paths = pixels as u64 * settings.spp as u64;
-    (image, halves, non_finite_samples, paths)
+    Rendered::from_halves(halves, counts, non_finite_samples, paths)
 }
 
 impl RenderOutput {

@@ -46,9 +46,7 @@ impl ReferenceRenderer {
     pub fn name(self) -> String {
         match self {
             Self::Cpu(Integrator::Pt) => "CPU reference".to_owned(),
-            Self::Cpu(Integrator::Bdpt) => "CPU reference (bdpt)".to_owned(),
-            Self::Cpu(Integrator::Mlt) => "CPU reference (mlt)".to_owned(),
-            Self::Cpu(integrator) => format!("CPU reference ({integrator:?})"),
+            Self::Cpu(integrator) => format!("CPU reference ({integrator})"),
             Self::Gpu => "GPU reference mode".to_owned(),
         }
     }

@@ -40,6 +40,15 @@ pub struct Splat {
     pub value: Vec3,
 }
 
+impl Splat {
+    /// Row-major index of the pixel it lands on in a `width` x `height` image.
+    pub fn pixel(&self, width: u32, height: u32) -> usize {
+        let x = (self.raster.x as u32).min(width - 1);
+        let y = (self.raster.y as u32).min(height - 1);
+        (y * width + x) as usize
+    }
+}
+
 /// Which connection strategies a sample takes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Strategies {

@@ -20,6 +20,7 @@
 mod primary_sample;
 
 use chiaro_shading::color::luminance;
+use chiaro_shading::distribution::Distribution1D;
 use chiaro_shading::rng::Pcg32;
 use glam::{Vec2, Vec3};
 use indicatif::ProgressBar;
@@ -27,7 +28,7 @@ use rayon::prelude::*;
 
 use crate::bdpt::{self, Splat, Strategies, Subpaths};
 use crate::random::{RandomSource, Stream};
-use crate::render::RenderSettings;
+use crate::render::{RenderSettings, Rendered};
 use crate::scene::RenderScene;
 use primary_sample::PrimarySamples;
 
@@ -52,18 +53,6 @@ const BOOTSTRAP_STREAM: u64 = 1 << 40;
 
 /// Stream of the pilot image's random numbers.
 const PILOT_STREAM: u64 = 1 << 48;
-
-/// What Metropolis sampling renders.
-pub struct MltOutput {
-    /// Pixel values of all chains, row-major.
-    pub image: Vec<Vec3>,
-    /// Pixel values of the even and the odd chains.
-    pub halves: [Vec<Vec3>; 2],
-    /// Samples whose contributions were not finite (counted as zero).
-    pub non_finite_samples: u64,
-    /// Paths traced: the pilot image's and the bootstrap's samples, and the mutations.
-    pub paths: u64,
-}
 
 /// One evaluation of the bidirectional tracer at a point of primary sample space.
 #[derive(Default)]
@@ -115,9 +104,8 @@ fn evaluate(
         out.values.push((y * width + x, l));
     }
     for splat in &work.splats {
-        let sx = (splat.raster.x as u32).min(width - 1);
-        let sy = (splat.raster.y as u32).min(height - 1);
-        out.values.push((sy * width + sx, splat.value));
+        out.values
+            .push((splat.pixel(width, height) as u32, splat.value));
     }
     out.non_finite = out.values.iter().any(|(_, v)| !v.is_finite());
     out.importance = if out.non_finite {
@@ -284,15 +272,9 @@ fn pixel_weights(scene: &RenderScene, settings: &RenderSettings, count: u64) -> 
         .collect()
 }
 
-/// Index of the first entry of running sums `cdf` above `u` times its last.
-fn pick(cdf: &[f64], u: f64) -> u64 {
-    let total = cdf.last().copied().unwrap_or(0.0);
-    cdf.partition_point(|&c| c <= u * total).min(cdf.len() - 1) as u64
-}
-
 /// Renders `settings.spp` mutations per pixel by Metropolis sampling; `bar` counts chains.
 /// Runs on the current rayon pool.
-pub fn render(scene: &RenderScene, settings: &RenderSettings, bar: &ProgressBar) -> MltOutput {
+pub fn render(scene: &RenderScene, settings: &RenderSettings, bar: &ProgressBar) -> Rendered {
     let pixels = settings.width as u64 * settings.height as u64;
     let bootstrap = (pixels * BOOTSTRAP_PER_PIXEL).max(MIN_BOOTSTRAP);
     let weights = pixel_weights(scene, settings, bootstrap);
@@ -307,12 +289,7 @@ pub fn render(scene: &RenderScene, settings: &RenderSettings, bar: &ProgressBar)
             },
         )
         .collect();
-    let mut cdf = Vec::with_capacity(importance.len());
-    let mut sum = 0.0f64;
-    for (i, _) in &importance {
-        sum += *i as f64;
-        cdf.push(sum);
-    }
+    let sum: f64 = importance.iter().map(|(i, _)| *i as f64).sum();
     let mut non_finite = importance.iter().filter(|(_, bad)| *bad).count() as u64;
     let mutations = pixels * settings.spp as u64;
     let chains = CHAINS.min(mutations / 64).max(2);
@@ -323,10 +300,12 @@ pub fn render(scene: &RenderScene, settings: &RenderSettings, bar: &ProgressBar)
     ];
     let mut counts = [0u64; 2];
     let (mut b_sum, mut b_count) = (sum, bootstrap);
-    if sum > 0.0 {
+    let weights_of_starts: Vec<f32> = importance.iter().map(|(i, _)| *i).collect();
+    // None when no bootstrap sample carries light: the image is black.
+    if let Some(start_distribution) = Distribution1D::new(&weights_of_starts) {
         let mut start_rng = Pcg32::new(settings.seed, BOOTSTRAP_STREAM - 1);
         let starts: Vec<u64> = (0..chains)
-            .map(|_| pick(&cdf, start_rng.next_f32() as f64))
+            .map(|_| start_distribution.sample(start_rng.next_f32()).0 as u64)
             .collect();
         let batch = 2 * rayon::current_num_threads() as u64;
         for first in (0..chains).step_by(batch as usize) {
@@ -366,16 +345,6 @@ pub fn render(scene: &RenderScene, settings: &RenderSettings, bar: &ProgressBar)
             *value *= scale;
         }
     }
-    let total = (counts[0] + counts[1]).max(1) as f32;
-    let image = films[0]
-        .iter()
-        .zip(&films[1])
-        .map(|(a, b)| (*a * counts[0] as f32 + *b * counts[1] as f32) / total)
-        .collect();
-    MltOutput {
-        image,
-        halves: films,
-        non_finite_samples: non_finite,
-        paths: 2 * bootstrap + counts[0] + counts[1],
-    }
+    let paths = 2 * bootstrap + counts[0] + counts[1];
+    Rendered::from_halves(films, counts, non_finite, paths)
 }
