@@ -97,7 +97,7 @@ fn main(@builtin(workgroup_id) workgroup: vec3<u32>, @builtin(local_invocation_i
     var punctual = vec3<f32>(0.0);
     var first = first_bounce_not_traced();
     if g.shades && params.lights != 0u {
-        let s = gbuffer_shading(g, camera);
+        let s = gbuffer_shading(g, gbuffer_triangle_at(pixel), camera);
         let index = id.y * size.x + id.x;
         let seed = vec2<u32>(params.seed_lo, params.seed_hi);
         var rng = pcg32_new(seed, vec2<u32>(index, params.frame));

@@ -6,8 +6,8 @@
 // lavapipe runs lane by lane, one word at a time.
 // Per pixel: world position, geometric and shading normals (octahedral, Cigolle et al., "A
 // Survey of Efficient Representations for Independent Unit Vectors", JCGT 3(2), 2014), base
-// colour (factor x texture x vertex colour), metallic, roughness, emission, instance id and the
-// motion vector; depth in the depth attachment. Alpha-masked texels are discarded, and
+// colour (factor x texture x vertex colour), metallic, roughness, emission, instance id, the
+// motion vector and the triangle's number in its mesh; depth in the depth attachment. Alpha-masked texels are discarded, and
 // alpha-blended fragments with probability 1 - alpha (stochastic coverage, coverage.wgsl),
 // the number hashed from the pixel, the frame's camera.frame_seed, the instance and the depth,
 // so the frames that accumulate see every fragment in proportion to its alpha. Surfaces are shaded as chiaro_reference's
@@ -42,6 +42,8 @@ struct VertexOut {
     @location(6) @interpolate(flat) face: vec3<f32>,
     // The vertex colour (white without FEATURE_VERTEX_COLORS).
     @location(7) color: vec4<f32>,
+    // The triangle's number in its mesh (from its first vertex).
+    @location(8) @interpolate(flat) triangle: u32,
 }
 
 fn transform_point(m: array<vec4<f32>, 3>, p: vec3<f32>) -> vec3<f32> {
@@ -78,6 +80,7 @@ struct VertexIn {
     @location(12) previous_object_to_world_1: vec4<f32>,
     @location(13) previous_object_to_world_2: vec4<f32>,
     @location(14) color: vec4<f32>,
+    @location(15) triangle: u32,
 }
 
 @vertex
@@ -102,6 +105,7 @@ fn vs_main(v: VertexIn, @builtin(instance_index) instance: u32) -> VertexOut {
     // transform, as chiaro_reference's surface_at does.
     out.face = transform_normal(world_to_object, v.face);
     out.color = select(vec4<f32>(1.0), v.color, FEATURE_VERTEX_COLORS);
+    out.triangle = v.triangle;
     return out;
 }
 
@@ -144,6 +148,7 @@ struct GbufferOut {
     @location(2) emission: vec4<u32>,
     // f32 bits.
     @location(3) motion: vec2<u32>,
+    @location(4) triangle: u32,
 }
 
 @fragment
@@ -197,6 +202,7 @@ fn fs_main(in: VertexOut) -> GbufferOut {
     out.position = packed.position;
     out.surface = packed.surface;
     out.emission = packed.emission;
+    out.triangle = in.triangle;
     // Where this point was in the previous frame, in pixels, minus where it is now.
     let now = camera.unjittered_view_proj * vec4<f32>(in.world, 1.0);
     let size = vec2<f32>(camera.width, camera.height);

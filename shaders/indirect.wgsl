@@ -261,7 +261,7 @@ fn main(@builtin(workgroup_id) workgroup: vec3<u32>, @builtin(local_invocation_i
     if gbuffer_covered(texels) {
         let g = gbuffer_unpack(texels);
         if g.shades && params.spp > 0u {
-            let x0 = gbuffer_shading(g, camera);
+            let x0 = gbuffer_shading(g, gbuffer_triangle_at(pixel), camera);
             let index = id.y * size.x + id.x;
             let seed = vec2<u32>(params.seed_lo, params.seed_hi);
             var rng = pcg32_new(seed ^ INDIRECT_SEED, vec2<u32>(index, params.frame));

@@ -459,7 +459,6 @@ fn material_extension_factors_are_read_and_bad_ones_repaired() {
     );
     let actions: Vec<&str> = spawned.repairs.iter().map(|r| r.action.as_str()).collect();
     for expected in [
-        "KHR_materials_specular's specularTexture is not read: its factor alone is used",
         "clear coat factor 4 clamped to [0, 1]",
         "clear coat roughness \"rough\" is not a number: the default is used",
         "sheen colour [0.5, 1.5, 0.25] clamped to [0, 1]",
@@ -471,4 +470,81 @@ fn material_extension_factors_are_read_and_bad_ones_repaired() {
             "{expected:?} not in {actions:?}"
         );
     }
+}
+
+/// The material extensions' textures are read, each in its colour space (the colour textures
+/// sRGB, the rest linear), with its UV set and KHR_texture_transform; one that names no texture
+/// of the file and the clear coat's normal texture get repair lines.
+#[test]
+fn material_extension_textures_are_read_in_their_colour_spaces() {
+    let mut json = scene_json();
+    let ext = &mut json["materials"][0]["extensions"];
+    ext["KHR_materials_specular"] = json!({
+        "specularTexture": {"index": 1},
+        "specularColorTexture": {"index": 1, "texCoord": 1}
+    });
+    ext["KHR_materials_clearcoat"] = json!({
+        "clearcoatFactor": 1.0,
+        "clearcoatTexture": {"index": 1},
+        "clearcoatRoughnessTexture": {"index": 1, "extensions": {"KHR_texture_transform":
+            {"offset": [0.25, 0.0]}}},
+        "clearcoatNormalTexture": {"index": 1}
+    });
+    ext["KHR_materials_sheen"] = json!({
+        "sheenColorFactor": [1.0, 1.0, 1.0],
+        "sheenColorTexture": {"index": 1},
+        "sheenRoughnessTexture": {"index": 7}
+    });
+    ext["KHR_materials_transmission"] =
+        json!({"transmissionFactor": 1.0, "transmissionTexture": {"index": 1}});
+    json["extensionsUsed"] = json!([
+        "KHR_lights_punctual",
+        "KHR_materials_emissive_strength",
+        "KHR_materials_ior",
+        "KHR_texture_transform",
+        "KHR_materials_specular",
+        "KHR_materials_clearcoat",
+        "KHR_materials_sheen",
+        "KHR_materials_transmission"
+    ]);
+    let path = write("extension_textures.gltf", &json);
+    let mut world = World::new();
+    let spawned = load_scene(&mut world, path.to_str().unwrap()).unwrap();
+    let materials = world.resource::<chiaro_scene::Materials>();
+    let textures = world.resource::<chiaro_scene::Textures>();
+    let layers = materials
+        .iter()
+        .find(|(_, m)| m.name == "textured")
+        .map(|(_, m)| m.layer_textures)
+        .unwrap();
+    let space = |slot: Option<chiaro_scene::TextureRef>| {
+        let slot = slot.expect("a texture");
+        textures.get(slot.texture).unwrap().color_space
+    };
+    use chiaro_scene::ColorSpace::{Linear, Srgb};
+    assert_eq!(space(layers.specular), Linear);
+    assert_eq!(space(layers.specular_color), Srgb);
+    assert_eq!(space(layers.clearcoat), Linear);
+    assert_eq!(space(layers.clearcoat_roughness), Linear);
+    assert_eq!(space(layers.transmission), Linear);
+    assert_eq!(space(layers.sheen_color), Srgb);
+    assert_eq!(layers.sheen_roughness, None, "texture 7 does not exist");
+    assert_eq!(layers.specular_color.unwrap().uv_set, 1);
+    assert_eq!(
+        layers.clearcoat_roughness.unwrap().transform.translation,
+        glam::Vec2::new(0.25, 0.0)
+    );
+    let actions: Vec<&str> = spawned.repairs.iter().map(|r| r.action.as_str()).collect();
+    for expected in [
+        "sheenRoughnessTexture {\"index\":7} names no texture of the file: its factor alone is used",
+        "KHR_materials_clearcoat's clearcoatNormalTexture is not read: the coat shares the \
+         material's shading normal",
+    ] {
+        assert!(
+            actions.contains(&expected),
+            "{expected:?} not in {actions:?}"
+        );
+    }
+    let about_textures = actions.iter().filter(|a| a.contains("Texture")).count();
+    assert_eq!(about_textures, 2, "{actions:?}");
 }

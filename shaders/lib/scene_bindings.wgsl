@@ -63,6 +63,13 @@ struct GpuMaterial {
     metallic_roughness_texture: GpuTextureSlot,
     normal_texture: GpuTextureSlot,
     emissive_texture: GpuTextureSlot,
+    specular_texture: GpuTextureSlot,
+    specular_color_texture: GpuTextureSlot,
+    clearcoat_texture: GpuTextureSlot,
+    clearcoat_roughness_texture: GpuTextureSlot,
+    transmission_texture: GpuTextureSlot,
+    sheen_color_texture: GpuTextureSlot,
+    sheen_roughness_texture: GpuTextureSlot,
 }
 
 // chiaro_gpu::GpuTextureInfo: texel (x, y) is scene_texels[offset + y * width + x], RGBA8.
@@ -168,10 +175,10 @@ fn scene_index(i: u32) -> u32 {
     return texel_array_load(scene_index_texels, i >> 2u)[i & 3u];
 }
 
-// Material i (19 texels: 7 of factors, then 3 for each texture slot). The shaders read a few
-// fields of it; the fetches of the others are dead code.
+// Material i (41 texels: 8 of factors, then 3 for each of the 11 texture slots). The shaders
+// read a few fields of it; the fetches of the others are dead code.
 fn scene_material(i: u32) -> GpuMaterial {
-    let first = 20u * i;
+    let first = 41u * i;
     let base_color = bitcast<vec4<f32>>(texel_array_load(scene_material_texels, first));
     let emission = texel_array_load(scene_material_texels, first + 1u);
     let factors = bitcast<vec4<f32>>(texel_array_load(scene_material_texels, first + 2u));
@@ -186,7 +193,11 @@ fn scene_material(i: u32) -> GpuMaterial {
         bitcast<f32>(specular_color.w), sheen.xyz, sheen.w, bitcast<f32>(layers.x),
         bitcast<f32>(layers.y), layers.z, layers.w, bitcast<vec3<f32>>(volume.xyz), volume.w,
         scene_texture_slot(first + 8u), scene_texture_slot(first + 11u),
-        scene_texture_slot(first + 14u), scene_texture_slot(first + 17u));
+        scene_texture_slot(first + 14u), scene_texture_slot(first + 17u),
+        scene_texture_slot(first + 20u), scene_texture_slot(first + 23u),
+        scene_texture_slot(first + 26u), scene_texture_slot(first + 29u),
+        scene_texture_slot(first + 32u), scene_texture_slot(first + 35u),
+        scene_texture_slot(first + 38u));
 }
 
 // The texture slot at material texel `first` (3 texels).

@@ -18,6 +18,7 @@
 #import lib/camera.wgsl
 #import lib/gbuffer_packing.wgsl
 #import lib/shading_normals.wgsl
+#import lib/layer_textures.wgsl
 
 // A point that reflects light: where, its normals (the shading frame's z is the shading
 // normal; both on the side the view arrives from), the direction toward the viewer in the
@@ -54,6 +55,23 @@ fn world_triangle(instance: u32, triangle: u32) -> WorldTriangle {
     return WorldTriangle(p0, p1, p2, i, false);
 }
 
+// The mesh-order barycentrics (of the mesh's vertices 1 and 2) of world point p, projected
+// onto the triangle's plane.
+fn world_triangle_barycentrics(t: WorldTriangle, p: vec3<f32>) -> vec2<f32> {
+    let e1 = select(t.v1, t.v2, t.mirrored) - t.v0;
+    let e2 = select(t.v2, t.v1, t.mirrored) - t.v0;
+    let d = p - t.v0;
+    let d11 = dot(e1, e1);
+    let d12 = dot(e1, e2);
+    let d22 = dot(e2, e2);
+    let det = d11 * d22 - d12 * d12;
+    if !(det > 0.0) {
+        return vec2<f32>(1.0 / 3.0);
+    }
+    return vec2<f32>(d22 * dot(d, e1) - d12 * dot(d, e2), d11 * dot(d, e2) - d12 * dot(d, e1))
+        / det;
+}
+
 // The world point at mesh-order barycentrics b (of the mesh's vertices 1 and 2).
 fn world_triangle_point(t: WorldTriangle, b: vec2<f32>) -> vec3<f32> {
     let m1 = select(t.v1, t.v2, t.mirrored);
@@ -70,9 +88,11 @@ fn emission_at(instance: u32, indices: vec3<u32>, b: vec2<f32>) -> vec3<f32> {
     return material.emission * texel.xyz;
 }
 
-// The shading point of a covered, shading G-buffer texel seen by `camera`.
-fn gbuffer_shading(g: GbufferSurface, camera: GpuCamera) -> Shading {
-    let material = scene_material(bvh_load_instance_whole(g.instance).material);
+// The shading point of a covered, shading G-buffer texel seen by `camera`, on triangle
+// `triangle` of its instance's mesh (where the extensions' textures are read).
+fn gbuffer_shading(g: GbufferSurface, triangle: u32, camera: GpuCamera) -> Shading {
+    let record = bvh_load_instance_whole(g.instance);
+    let material = scene_material(record.material);
     var s: Shading;
     s.position = g.position;
     s.geometric_normal = g.geometric_normal;
@@ -85,6 +105,11 @@ fn gbuffer_shading(g: GbufferSurface, camera: GpuCamera) -> Shading {
         material.clearcoat_roughness, material.transmission, material.sheen_color,
         material.sheen_roughness, material.absorption,
         volume_eta(material, !g.back_face));
+    if FEATURE_LAYER_TEXTURES {
+        let t = world_triangle(g.instance, triangle);
+        let uvs = scene_uvs(t.indices, world_triangle_barycentrics(t, g.position));
+        s.params = layer_textured(s.params, material, uvs, scene_meshes[record.mesh].flags);
+    }
     return s;
 }
 
@@ -164,6 +189,7 @@ fn surface_at_hit(direction: vec3<f32>, hit: Hit) -> SurfaceHit {
         material.clearcoat_roughness, material.transmission, material.sheen_color,
         material.sheen_roughness, material.absorption,
         volume_eta(material, dot(direction, geometric_front) < 0.0));
+    s.params = layer_textured(s.params, material, uvs, mesh_flags);
     return SurfaceHit(s, normals.shades);
 }
 

@@ -17,6 +17,10 @@ use thiserror::Error;
 /// [`crate::passes::params`]).
 pub const STORAGE_BUFFERS_PER_STAGE: u32 = 8;
 
+/// Colour targets the G-buffer pass writes: position, surface, emission, motion and triangle
+/// (one past WebGPU's downlevel 4).
+pub const GBUFFER_TARGETS: u32 = 5;
+
 /// Why no device could be made.
 #[derive(Debug, Error)]
 pub enum ContextError {
@@ -48,14 +52,15 @@ pub enum ContextError {
     },
 }
 
-/// The limits chiaro asks for: WebGPU's downlevel defaults with more storage buffers per
-/// stage, 64 bytes of colour attachments per sample (the G-buffer's four targets), and the
+/// The limits chiaro asks for: WebGPU's downlevel defaults with more storage buffers per stage,
+/// five colour targets and 64 bytes of them per sample (the G-buffer's use 60), and the
 /// adapter's own buffer and texture sizes (large scenes need large storage buffers).
 pub fn required_limits(adapter: &wgpu::Limits) -> wgpu::Limits {
     wgpu::Limits {
         max_storage_buffers_per_shader_stage: STORAGE_BUFFERS_PER_STAGE,
         max_storage_textures_per_shader_stage: 4,
         max_texture_dimension_2d: adapter.max_texture_dimension_2d.max(2048),
+        max_color_attachments: GBUFFER_TARGETS,
         max_color_attachment_bytes_per_sample: 64,
         max_storage_buffer_binding_size: adapter
             .max_storage_buffer_binding_size

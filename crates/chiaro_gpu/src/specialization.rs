@@ -81,9 +81,12 @@ impl PipelineFeatures {
     /// Volumes (KHR_materials_volume): transmission refracts by the IOR, and light crossing a
     /// medium is attenuated.
     pub const VOLUMES: Self = Self(1 << 17);
+    /// The material extensions' textures (chiaro_scene::LayerTextures) multiply their factors,
+    /// at ray hits and at the surface the G-buffer holds (found again from its triangle).
+    pub const LAYER_TEXTURES: Self = Self(1 << 18);
 
     /// Every flag, in bit order.
-    pub const FLAGS: [FeatureFlag; 18] = [
+    pub const FLAGS: [FeatureFlag; 19] = [
         flag(
             Self::BASE_COLOR_TEXTURES,
             "FEATURE_BASE_COLOR_TEXTURES",
@@ -158,6 +161,11 @@ impl PipelineFeatures {
             "FEATURE_VOLUMES",
             "volumes (refraction and attenuation)",
         ),
+        flag(
+            Self::LAYER_TEXTURES,
+            "FEATURE_LAYER_TEXTURES",
+            "material extension textures",
+        ),
     ];
 
     /// No feature.
@@ -187,6 +195,7 @@ impl PipelineFeatures {
         add(features.transmission, Self::TRANSMISSION);
         add(features.sheen, Self::SHEEN);
         add(features.volumes, Self::VOLUMES);
+        add(features.layer_textures, Self::LAYER_TEXTURES);
         add(features.point_lights, Self::POINT_LIGHTS);
         add(features.spot_lights, Self::SPOT_LIGHTS);
         add(features.directional_lights, Self::DIRECTIONAL_LIGHTS);

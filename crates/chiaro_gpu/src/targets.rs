@@ -10,6 +10,8 @@ pub const SURFACE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 pub const EMISSION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 /// Format of the G-buffer's motion vectors (pixels to the previous frame's position, f32 bits).
 pub const MOTION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Uint;
+/// Format of the G-buffer's triangle target (the number of the triangle seen in its mesh).
+pub const TRIANGLE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 /// Depth format.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Format of the HDR images.
@@ -74,6 +76,10 @@ pub struct FrameTargets {
     pub emission: Target,
     /// G-buffer: motion vectors.
     pub motion: Target,
+    /// G-buffer: the number of the triangle seen in its mesh (the instance is in `emission`):
+    /// with the position it gives the barycentrics, so a pass can read what the other targets
+    /// have no room for (the material extensions' textures).
+    pub triangle: Target,
     /// Depth.
     pub depth: Target,
     /// This frame's direct light reflected by the surface seen (linear radiance, emission
@@ -122,6 +128,13 @@ impl FrameTargets {
             surface: Target::new(device, "gbuffer surface", SURFACE_FORMAT, size, gbuffer),
             emission: Target::new(device, "gbuffer emission", EMISSION_FORMAT, size, gbuffer),
             motion: Target::new(device, "gbuffer motion", MOTION_FORMAT, size, gbuffer),
+            triangle: Target::new(
+                device,
+                "gbuffer triangle",
+                TRIANGLE_FORMAT,
+                size,
+                gbuffer | U::STORAGE_BINDING,
+            ),
             depth: Target::new(device, "gbuffer depth", DEPTH_FORMAT, size, gbuffer),
             direct: Target::new(device, "direct light", HDR_FORMAT, size, storage),
             direct_punctual: Target::new(

@@ -105,7 +105,14 @@ fn scene_records_match_their_wgsl_structs() {
             base_color_texture,
             metallic_roughness_texture,
             normal_texture,
-            emissive_texture
+            emissive_texture,
+            specular_texture,
+            specular_color_texture,
+            clearcoat_texture,
+            clearcoat_roughness_texture,
+            transmission_texture,
+            sheen_color_texture,
+            sheen_roughness_texture
         ]
     );
     check!(

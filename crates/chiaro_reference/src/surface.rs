@@ -219,18 +219,20 @@ pub fn surface_at(scene: &RenderScene, ray: &Ray, hit: &Hit) -> SurfaceHit {
 
     let base = base_color_at(scene, material, mesh, hit.triangle, b, uvs);
     let metallic_roughness = sample(&material.metallic_roughness_texture);
+    // The extensions' textures multiply their factors, each in the channel its extension names.
+    let layers = &material.layer_textures;
     let params = SurfaceParams {
         base_color: base.truncate(),
         metallic: (material.metallic * metallic_roughness.z).clamp(0.0, 1.0),
         roughness: (material.roughness * metallic_roughness.y).clamp(0.0, 1.0),
         f0_dielectric: material.dielectric_f0(),
-        specular: material.specular,
-        specular_color: material.specular_color,
-        clearcoat: material.clearcoat,
-        clearcoat_roughness: material.clearcoat_roughness,
-        transmission: material.transmission,
-        sheen_color: material.sheen_color,
-        sheen_roughness: material.sheen_roughness,
+        specular: material.specular * sample(&layers.specular).w,
+        specular_color: material.specular_color * sample(&layers.specular_color).truncate(),
+        clearcoat: material.clearcoat * sample(&layers.clearcoat).x,
+        clearcoat_roughness: material.clearcoat_roughness * sample(&layers.clearcoat_roughness).y,
+        transmission: material.transmission * sample(&layers.transmission).x,
+        sheen_color: material.sheen_color * sample(&layers.sheen_color).truncate(),
+        sheen_roughness: material.sheen_roughness * sample(&layers.sheen_roughness).w,
         absorption: material.absorption,
         eta: match material.volume {
             Some(_) if front_facing => material.ior,

@@ -39,6 +39,8 @@ pub struct SceneFeatures {
     pub normal_maps: bool,
     /// Some used material has an emissive texture.
     pub emissive_textures: bool,
+    /// Some used material has a texture of a material extension ([`crate::LayerTextures`]).
+    pub layer_textures: bool,
     /// Some used texture slot reads the second UV set.
     pub second_uv_set: bool,
     /// Some used material is alpha-masked.
@@ -123,6 +125,7 @@ impl SceneFeatures {
         self.metallic_roughness_textures |= m.metallic_roughness_texture.is_some();
         self.normal_maps |= m.normal_texture.is_some();
         self.emissive_textures |= m.emissive_texture.is_some() && m.is_emissive();
+        self.layer_textures |= m.layer_textures.any();
         self.second_uv_set |= m.texture_slots().any(|(_, t)| t.uv_set == 1);
         self.alpha_masks |= matches!(m.alpha_mode, AlphaMode::Mask { .. });
         self.alpha_blend |= m.alpha_mode == AlphaMode::Blend;
@@ -149,6 +152,7 @@ impl SceneFeatures {
             ),
             (self.normal_maps, "normal maps"),
             (self.emissive_textures, "emissive textures"),
+            (self.layer_textures, "material extension textures"),
             (self.second_uv_set, "second UV set"),
             (self.alpha_masks, "alpha masks"),
             (self.alpha_blend, "alpha blend (stochastic coverage)"),

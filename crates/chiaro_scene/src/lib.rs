@@ -65,7 +65,7 @@ pub use load::{
     LUMENS_PER_WATT, LightUnits, LoadOptions, load_scene, load_scene_with, scene_builder_for,
     scene_builder_with,
 };
-pub use material::{AlphaMode, Material, MaterialId, Materials, TextureRef, Volume};
+pub use material::{AlphaMode, LayerTextures, Material, MaterialId, Materials, TextureRef, Volume};
 pub use memory::{MemoryEstimate, OverBudget};
 pub use mesh::{Mesh, MeshId, Meshes};
 pub use mesh_repair::{MeshData, MeshFault};

@@ -129,9 +129,51 @@ pub struct Material {
     pub sheen_color: Vec3,
     /// KHR_materials_sheen's sheenRoughnessFactor in [0, 1] (0 when absent).
     pub sheen_roughness: f32,
+    /// The extensions' textures, each multiplying its factor above.
+    pub layer_textures: LayerTextures,
     /// The notes' energy absorption factor in [0, 1]: the BRDF is scaled by (1 - absorption).
     /// Read from the material's glTF `extras` as `{"absorption": x}`; 0 when absent.
     pub absorption: f32,
+}
+
+/// The textures of the material extensions, each multiplying its factor in [`Material`]: the
+/// channel named is the one the extension reads (linear unless said sRGB).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LayerTextures {
+    /// KHR_materials_specular's specularTexture (A): the specular factor.
+    pub specular: Option<TextureRef>,
+    /// KHR_materials_specular's specularColorTexture (RGB, sRGB): the specular colour.
+    pub specular_color: Option<TextureRef>,
+    /// KHR_materials_clearcoat's clearcoatTexture (R): the coat's strength.
+    pub clearcoat: Option<TextureRef>,
+    /// KHR_materials_clearcoat's clearcoatRoughnessTexture (G): the coat's roughness.
+    pub clearcoat_roughness: Option<TextureRef>,
+    /// KHR_materials_transmission's transmissionTexture (R): the transmitted share.
+    pub transmission: Option<TextureRef>,
+    /// KHR_materials_sheen's sheenColorTexture (RGB, sRGB): the sheen colour.
+    pub sheen_color: Option<TextureRef>,
+    /// KHR_materials_sheen's sheenRoughnessTexture (A): the sheen roughness.
+    pub sheen_roughness: Option<TextureRef>,
+}
+
+impl LayerTextures {
+    /// The slots by name, empty ones included.
+    pub fn slots(&self) -> [(&'static str, &Option<TextureRef>); 7] {
+        [
+            ("specular", &self.specular),
+            ("specular colour", &self.specular_color),
+            ("clear coat", &self.clearcoat),
+            ("clear coat roughness", &self.clearcoat_roughness),
+            ("transmission", &self.transmission),
+            ("sheen colour", &self.sheen_color),
+            ("sheen roughness", &self.sheen_roughness),
+        ]
+    }
+
+    /// True when any slot holds a texture.
+    pub fn any(&self) -> bool {
+        self.slots().iter().any(|(_, slot)| slot.is_some())
+    }
 }
 
 /// The medium inside a KHR_materials_volume mesh: Beer-Lambert attenuation, light of colour
@@ -199,6 +241,7 @@ impl Default for Material {
             volume: None,
             sheen_color: Vec3::ZERO,
             sheen_roughness: 0.0,
+            layer_textures: LayerTextures::default(),
             absorption: 0.0,
         }
     }
@@ -269,6 +312,7 @@ impl Material {
             ("emissive", &self.emissive_texture),
         ]
         .into_iter()
+        .chain(self.layer_textures.slots())
         .filter_map(|(name, slot)| slot.as_ref().map(|t| (name, t)))
     }
 }

@@ -147,6 +147,13 @@ pub fn material(m: &Material) -> GpuMaterial {
         metallic_roughness_texture: slot(&m.metallic_roughness_texture),
         normal_texture: slot(&m.normal_texture),
         emissive_texture: slot(&m.emissive_texture),
+        specular_texture: slot(&m.layer_textures.specular),
+        specular_color_texture: slot(&m.layer_textures.specular_color),
+        clearcoat_texture: slot(&m.layer_textures.clearcoat),
+        clearcoat_roughness_texture: slot(&m.layer_textures.clearcoat_roughness),
+        transmission_texture: slot(&m.layer_textures.transmission),
+        sheen_color_texture: slot(&m.layer_textures.sheen_color),
+        sheen_roughness_texture: slot(&m.layer_textures.sheen_roughness),
     }
 }
 

@@ -214,6 +214,20 @@ pub struct GpuMaterial {
     pub normal_texture: GpuTextureSlot,
     /// Emissive texture.
     pub emissive_texture: GpuTextureSlot,
+    /// KHR_materials_specular's specular texture (A).
+    pub specular_texture: GpuTextureSlot,
+    /// KHR_materials_specular's colour texture (RGB).
+    pub specular_color_texture: GpuTextureSlot,
+    /// KHR_materials_clearcoat's texture (R).
+    pub clearcoat_texture: GpuTextureSlot,
+    /// KHR_materials_clearcoat's roughness texture (G).
+    pub clearcoat_roughness_texture: GpuTextureSlot,
+    /// KHR_materials_transmission's texture (R).
+    pub transmission_texture: GpuTextureSlot,
+    /// KHR_materials_sheen's colour texture (RGB).
+    pub sheen_color_texture: GpuTextureSlot,
+    /// KHR_materials_sheen's roughness texture (A).
+    pub sheen_roughness_texture: GpuTextureSlot,
 }
 
 /// Where a texture's texels lie in the texel atlas buffer.
@@ -365,7 +379,7 @@ mod tests {
     #[test]
     fn sizes_are_multiples_of_their_alignment() {
         assert_eq!(size_of::<GpuVertex>(), 64);
-        assert_eq!(size_of::<GpuMaterial>(), 320);
+        assert_eq!(size_of::<GpuMaterial>(), 656);
         assert_eq!(size_of::<GpuLight>(), 64);
         assert_eq!(size_of::<GpuInstanceExtra>(), 64);
         assert_eq!(size_of::<GpuSceneInfo>(), 64);

@@ -20,7 +20,7 @@ use glam::Vec3;
 use super::layout::{GpuMesh, GpuVertex};
 
 /// A vertex of the G-buffer's vertex buffer (the draws' index list points here): its scene
-/// vertex's attributes, and the face of the triangle that starts at it.
+/// vertex's attributes, and the face and number of the triangle that starts at it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 #[repr(C, align(16))]
 pub struct RasterVertex {
@@ -30,8 +30,9 @@ pub struct RasterVertex {
     /// the cross product of its edges from its first corner, (p1 - p0) x (p2 - p0). Zero where
     /// no triangle starts.
     pub face: [f32; 3],
-    /// Padding, zero.
-    pub pad: f32,
+    /// The number, in its mesh, of the triangle that starts at this vertex (zero where none
+    /// does): the G-buffer keeps it, so a pass can find the surface's UVs again.
+    pub triangle: u32,
 }
 
 /// The raster lists for the scene's index list `indices` (global vertex indices, `vertex_count`
@@ -97,7 +98,9 @@ pub fn raster_vertices(
         for t in 0..mesh.triangle_count {
             let at = (mesh.index_base + 3 * t) as usize;
             let [p0, p1, p2] = [at, at + 1, at + 2].map(|k| position(indices[k]));
-            out[raster_indices[at] as usize].face = (p1 - p0).cross(p2 - p0).to_array();
+            let first = &mut out[raster_indices[at] as usize];
+            first.face = (p1 - p0).cross(p2 - p0).to_array();
+            first.triangle = t;
         }
     }
     out
@@ -183,7 +186,7 @@ mod tests {
     }
 
     #[test]
-    fn each_triangle_starts_at_a_vertex_carrying_its_face() {
+    fn each_triangle_starts_at_a_vertex_carrying_its_face_and_number() {
         // A unit square in the plane z = 0 as two triangles sharing the diagonal, the first
         // facing +z, the second -z.
         let vertices = [
@@ -203,6 +206,8 @@ mod tests {
         let drawn = raster_vertices((&scene, &raster), &indices, &meshes, &vertices);
         assert_eq!(drawn[raster[0] as usize].face, [0.0, 0.0, 1.0]);
         assert_eq!(drawn[raster[3] as usize].face, [0.0, 0.0, -1.0]);
+        assert_eq!(drawn[raster[0] as usize].triangle, 0);
+        assert_eq!(drawn[raster[3] as usize].triangle, 1);
         for (r, &v) in drawn.iter().zip(&scene) {
             assert_eq!(r.vertex, vertices[v as usize]);
         }

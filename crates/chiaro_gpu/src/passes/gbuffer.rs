@@ -1,7 +1,8 @@
 //! `gbuffer`: rasterizes every instance (one indexed, instanced draw per run of consecutive
 //! instances of one mesh, over the raster lists of [`crate::gpu_scene::raster`]; vertices, faces
 //! and instance transforms from vertex buffers, see [`VERTEX_LAYOUTS`]) into the G-buffer targets:
-//! position, normals, base colour, metallic, roughness, emission, instance id and motion vectors,
+//! position, normals, base colour, metallic, roughness, emission, instance id, motion vectors and
+//! the triangle's number in its mesh,
 //! plus depth (reversed: the near plane at 1, infinitely far at 0; see [`crate::camera`]). A back
 //! face of a single-sided material is drawn and marked as not shading, as the CPU reference treats
 //! it, except in the instances whose back faces cannot be seen ([`crate::gpu_scene::back_faces`]),
@@ -97,6 +98,7 @@ impl GbufferPass {
                 clear(&targets.surface.view),
                 clear(&targets.emission.view),
                 clear(&targets.motion.view),
+                clear(&targets.triangle.view),
             ],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &targets.depth.view,
@@ -198,8 +200,8 @@ macro_rules! vertex_offset {
 
 /// Locations 0 to 3: the scene vertex's position and u, normal and v, tangent, and UV set 1;
 /// location 4: the face of the triangle that starts at the vertex; location 14: the vertex
-/// colour (four unorm16).
-const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 6] = [
+/// colour (four unorm16); location 15: the number of the triangle that starts at the vertex.
+const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 7] = [
     attribute(wgpu::VertexFormat::Float32x4, vertex_offset!(position), 0),
     attribute(wgpu::VertexFormat::Float32x4, vertex_offset!(normal), 1),
     attribute(wgpu::VertexFormat::Float32x4, vertex_offset!(tangent), 2),
@@ -210,6 +212,11 @@ const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 6] = [
         4,
     ),
     attribute(wgpu::VertexFormat::Unorm16x4, vertex_offset!(color), 14),
+    attribute(
+        wgpu::VertexFormat::Uint32,
+        offset_of!(RasterVertex, triangle),
+        15,
+    ),
 ];
 
 /// Locations 5 to 10: the rows of world-to-object, then of object-to-world.
@@ -323,6 +330,7 @@ fn build_pipeline(
                 target(targets::SURFACE_FORMAT),
                 target(targets::EMISSION_FORMAT),
                 target(targets::MOTION_FORMAT),
+                target(targets::TRIANGLE_FORMAT),
             ],
         }),
         multiview_mask: None,

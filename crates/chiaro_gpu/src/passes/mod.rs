@@ -59,6 +59,16 @@ pub fn texture(sample_type: wgpu::TextureSampleType) -> wgpu::BindingType {
     }
 }
 
+/// A read-only 2D storage texture: what a pass reads where the stage's sampled textures run
+/// out (16 in WebGPU's downlevel limits; the scene and the indirect pass use them all).
+pub fn read_only_storage_texture(format: wgpu::TextureFormat) -> wgpu::BindingType {
+    wgpu::BindingType::StorageTexture {
+        access: wgpu::StorageTextureAccess::ReadOnly,
+        format,
+        view_dimension: wgpu::TextureViewDimension::D2,
+    }
+}
+
 /// A write-only 2D storage texture.
 pub fn storage_texture(format: wgpu::TextureFormat) -> wgpu::BindingType {
     wgpu::BindingType::StorageTexture {

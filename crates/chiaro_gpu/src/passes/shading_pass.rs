@@ -1,7 +1,7 @@
 //! What the `direct` and `indirect` passes share: a compute shader over the G-buffer, one
 //! invocation per pixel, with the scene in group 0 and, in group 1, the G-buffer's position,
-//! surface and emission targets, the camera (`shaders/lib/gbuffer_inputs.wgsl`), the pass's
-//! parameters, the images it writes and the images of an earlier pass it reads.
+//! surface, emission and triangle targets, the camera (`shaders/lib/gbuffer_inputs.wgsl`), the
+//! pass's parameters, the images it writes and the images of an earlier pass it reads.
 
 use std::marker::PhantomData;
 
@@ -11,6 +11,10 @@ use crate::gpu_scene::GpuScene;
 use crate::shaders::ShaderError;
 use crate::specialization::{PipelineFeatures, SpecializedPipelines};
 use crate::targets::{FrameTargets, Target};
+
+/// The binding of the G-buffer's triangle target in group 1 (`gbuffer_triangle` in
+/// `shaders/lib/gbuffer_inputs.wgsl`), past the passes' own.
+const TRIANGLE_BINDING: u32 = 15;
 
 /// Which G-buffer shading pass: its shader and the images it writes.
 pub trait ShadingKind {
@@ -48,6 +52,10 @@ impl<K: ShadingKind> GbufferShadingPass<K> {
             e(2, texture(S::Uint)),
             e(3, params()),
             e(4, params()),
+            e(
+                TRIANGLE_BINDING,
+                super::read_only_storage_texture(crate::targets::TRIANGLE_FORMAT),
+            ),
         ];
         let outputs = K::OUTPUT_FORMATS.iter().map(|f| super::storage_texture(*f));
         let inputs = (0..K::INPUTS).map(|_| texture(S::Uint));
@@ -93,6 +101,7 @@ impl<K: ShadingKind> GbufferShadingPass<K> {
                 binding: 4,
                 resource: params.as_entire_binding(),
             },
+            view(TRIANGLE_BINDING, &targets.triangle.view),
         ];
         entries.extend(
             (5..)

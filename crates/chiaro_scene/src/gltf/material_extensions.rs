@@ -1,14 +1,16 @@
 //! Material extensions read from a material's `extensions` JSON: KHR_materials_specular,
 //! KHR_materials_clearcoat, KHR_materials_sheen, KHR_materials_transmission and
 //! KHR_materials_volume. Each factor is checked against its range; a value outside it is
-//! repaired with a line that says so, never trusted. Their textures are not read yet: a file
-//! that names one gets a repair line saying that the factor alone is used.
+//! repaired with a line that says so, never trusted. Their textures multiply the factors
+//! ([`crate::material::LayerTextures`]), except the clear coat's normal texture: the coat shares the material's
+//! shading normal, and a file that names one gets a repair line saying so.
 
 use glam::Vec3;
 use serde_json::Value;
 
-use crate::gltf::materials::MaterialImporter;
-use crate::material::{Material, Volume};
+use crate::gltf::materials::{MaterialImporter, Slot, transform_from_json};
+use crate::material::{Material, TextureRef, Volume};
+use crate::texture::ColorSpace;
 
 impl MaterialImporter<'_> {
     /// KHR_materials_specular: `specularFactor` in [0, 1] (default 1) and `specularColorFactor`,
@@ -29,11 +31,19 @@ impl MaterialImporter<'_> {
                 ),
             }
         }
-        self.textures_not_read(
+        out.layer_textures.specular = self.layer_texture(
             element,
             ext,
-            "KHR_materials_specular",
-            &["specularTexture", "specularColorTexture"],
+            "specularTexture",
+            "specular",
+            ColorSpace::Linear,
+        );
+        out.layer_textures.specular_color = self.layer_texture(
+            element,
+            ext,
+            "specularColorTexture",
+            "specular colour",
+            ColorSpace::Srgb,
         );
     }
 
@@ -54,16 +64,28 @@ impl MaterialImporter<'_> {
         ) {
             out.clearcoat_roughness = f;
         }
-        self.textures_not_read(
+        out.layer_textures.clearcoat = self.layer_texture(
             element,
             ext,
-            "KHR_materials_clearcoat",
-            &[
-                "clearcoatTexture",
-                "clearcoatRoughnessTexture",
-                "clearcoatNormalTexture",
-            ],
+            "clearcoatTexture",
+            "clear coat",
+            ColorSpace::Linear,
         );
+        out.layer_textures.clearcoat_roughness = self.layer_texture(
+            element,
+            ext,
+            "clearcoatRoughnessTexture",
+            "clear coat roughness",
+            ColorSpace::Linear,
+        );
+        if ext.get("clearcoatNormalTexture").is_some() {
+            self.repair(
+                element.into(),
+                "KHR_materials_clearcoat's clearcoatNormalTexture is not read: the coat shares \
+                 the material's shading normal"
+                    .into(),
+            );
+        }
     }
 
     /// KHR_materials_transmission: `transmissionFactor` in [0, 1] (default 0). The surface is
@@ -81,11 +103,12 @@ impl MaterialImporter<'_> {
             {
                 out.transmission = f;
             }
-            self.textures_not_read(
+            out.layer_textures.transmission = self.layer_texture(
                 element,
                 ext,
-                "KHR_materials_transmission",
-                &["transmissionTexture"],
+                "transmissionTexture",
+                "transmission",
+                ColorSpace::Linear,
             );
         }
         self.read_volume(element, m, out);
@@ -170,11 +193,19 @@ impl MaterialImporter<'_> {
         if let Some(f) = self.unit_factor(element, ext, "sheenRoughnessFactor", "sheen roughness") {
             out.sheen_roughness = f;
         }
-        self.textures_not_read(
+        out.layer_textures.sheen_color = self.layer_texture(
             element,
             ext,
-            "KHR_materials_sheen",
-            &["sheenColorTexture", "sheenRoughnessTexture"],
+            "sheenColorTexture",
+            "sheen colour",
+            ColorSpace::Srgb,
+        );
+        out.layer_textures.sheen_roughness = self.layer_texture(
+            element,
+            ext,
+            "sheenRoughnessTexture",
+            "sheen roughness",
+            ColorSpace::Linear,
         );
     }
 
@@ -198,16 +229,51 @@ impl MaterialImporter<'_> {
         }
     }
 
-    /// One repair line per texture of `extension` that the file names and chiaro does not read.
-    fn textures_not_read(&mut self, element: &str, ext: &Value, extension: &str, names: &[&str]) {
-        for texture in names {
-            if ext.get(*texture).is_some() {
+    /// The texture info `field` of `ext` (its `index`, `texCoord` and KHR_texture_transform),
+    /// decoded in `space` as the `name` texture of one of [`crate::material::LayerTextures`]. None when absent;
+    /// None with a repair line when it names no texture of the file or cannot be decoded.
+    fn layer_texture(
+        &mut self,
+        element: &str,
+        ext: &Value,
+        field: &str,
+        name: &str,
+        space: ColorSpace,
+    ) -> Option<TextureRef> {
+        let info = ext.get(field)?;
+        let document = self.document;
+        let texture = info
+            .get("index")
+            .and_then(Value::as_u64)
+            .and_then(|i| document.textures().nth(usize::try_from(i).ok()?));
+        let Some(texture) = texture else {
+            self.repair(
+                element.into(),
+                format!("{field} {info} names no texture of the file: its factor alone is used"),
+            );
+            return None;
+        };
+        let tex_coord = match info.get("texCoord").map(Value::as_u64) {
+            None => 0,
+            Some(Some(set)) => u32::try_from(set).unwrap_or(u32::MAX),
+            Some(None) => {
                 self.repair(
                     element.into(),
-                    format!("{extension}'s {texture} is not read: its factor alone is used"),
+                    format!("{field}'s texCoord is not a whole number: UV set 0 used"),
                 );
+                0
             }
-        }
+        };
+        let transform = info
+            .get("extensions")
+            .and_then(|e| e.get("KHR_texture_transform"))
+            .map(transform_from_json);
+        let slot = Slot {
+            texture,
+            tex_coord,
+            transform,
+        };
+        self.slot(element, name, slot, space)
     }
 }
 

@@ -27,10 +27,10 @@ pub(crate) struct MaterialImporter<'a> {
 }
 
 /// glTF's texture-reference fields, common to the three kinds of texture info.
-struct Slot<'a> {
-    texture: gltf::Texture<'a>,
-    tex_coord: u32,
-    transform: Option<(Vec2, f32, Vec2, Option<u32>)>,
+pub(super) struct Slot<'a> {
+    pub texture: gltf::Texture<'a>,
+    pub tex_coord: u32,
+    pub transform: Option<(Vec2, f32, Vec2, Option<u32>)>,
 }
 
 fn wrap(mode: gltf::texture::WrappingMode) -> WrapMode {
@@ -58,7 +58,7 @@ fn sampler(s: &gltf::texture::Sampler) -> Sampler {
 }
 
 /// KHR_texture_transform read from raw JSON (the normal texture's info has no typed accessor).
-fn transform_from_json(value: &serde_json::Value) -> (Vec2, f32, Vec2, Option<u32>) {
+pub(super) fn transform_from_json(value: &serde_json::Value) -> (Vec2, f32, Vec2, Option<u32>) {
     let pair = |key: &str, default: Vec2| {
         value
             .get(key)
@@ -258,7 +258,7 @@ impl<'a> MaterialImporter<'a> {
         }
     }
 
-    fn slot(
+    pub(super) fn slot(
         &mut self,
         element: &str,
         slot_name: &str,
