@@ -1,11 +1,14 @@
 """The hand-made glTF test scenes (plain JSON with an embedded buffer; no Blender needed):
 quads under the constant environment, a point light over a floor, vertex colours, alpha BLEND and
-the material extensions clearcoat, specular, transmission and volume."""
+the material extensions clearcoat, specular, transmission and volume, and those extensions'
+textures."""
 
 import base64
 import json
 import math
 import os
+import struct
+import zlib
 
 import numpy as np
 
@@ -55,13 +58,28 @@ class GltfBuilder:
         self.doc["materials"].append(m)
         return len(self.doc["materials"]) - 1
 
+    def texture(self, rgba):
+        """A texture of the H x W x 4 uint8 array `rgba` (an embedded PNG, nearest texels,
+        repeating); returns its index."""
+        for k in ["images", "samplers", "textures"]:
+            self.doc.setdefault(k, [])
+        self.doc["images"].append({"uri": "data:image/png;base64,"
+                                   + base64.b64encode(png(rgba)).decode()})
+        self.doc["samplers"].append({"magFilter": 9728, "minFilter": 9728})
+        self.doc["textures"].append({"source": len(self.doc["images"]) - 1,
+                                     "sampler": len(self.doc["samplers"]) - 1})
+        return len(self.doc["textures"]) - 1
+
     def quad(self, size, material, colors=None, z=0.0):
-        """A size x size quad in the XY plane at height z, facing +Z (counter-clockwise)."""
+        """A size x size quad in the XY plane at height z, facing +Z (counter-clockwise), UVs
+        over [0, 1]^2 (v down, as glTF's)."""
         h = 0.5 * size
         pos = np.array([[-h, -h, z], [h, -h, z], [h, h, z], [-h, h, z]], np.float32)
         nrm = np.tile(np.array([0, 0, 1], np.float32), (4, 1))
         idx = np.array([0, 1, 2, 0, 2, 3], np.uint32)
-        attrs = {"POSITION": self.accessor(pos, "VEC3"), "NORMAL": self.accessor(nrm, "VEC3")}
+        uv = np.array([[0, 1], [1, 1], [1, 0], [0, 0]], np.float32)
+        attrs = {"POSITION": self.accessor(pos, "VEC3"), "NORMAL": self.accessor(nrm, "VEC3"),
+                 "TEXCOORD_0": self.accessor(uv, "VEC2")}
         if colors is not None:
             attrs["COLOR_0"] = self.accessor(np.array(colors, np.float32), "VEC4")
         prim = {"attributes": attrs, "indices": self.accessor(idx, "SCALAR", 34963),
@@ -117,6 +135,29 @@ class GltfBuilder:
                 del self.doc[k]
         with open(path, "w") as f:
             json.dump(self.doc, f, indent=1)
+
+
+def png(rgba):
+    """The H x W x 4 uint8 array as PNG bytes (8-bit RGBA, no filtering)."""
+    h, w, _ = rgba.shape
+    raw = b"".join(b"\x00" + rgba[y].astype(np.uint8).tobytes() for y in range(h))
+
+    def chunk(kind, data):
+        return (struct.pack(">I", len(data)) + kind + data
+                + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF))
+
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 6, 0, 0, 0))
+            + chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
+
+
+def stripes(channel, period=2, size=8):
+    """An 8 x 8 RGBA texture, white, whose `channel` is 255 and 0 in vertical stripes `period`
+    texels wide (the other channels 255)."""
+    t = np.full((size, size, 4), 255, np.uint8)
+    for x in range(size):
+        if (x // period) % 2:
+            t[:, x, channel] = 0
+    return t
 
 
 def rot_x(deg):
@@ -260,6 +301,53 @@ def make_test_scenes(folder):
         b.node(mesh=b.sphere(0.45, glass), name=f"{name} sphere", translation=[x, 0.0, 0.6])
     with_ext(b, "KHR_materials_transmission", "KHR_materials_volume")
     p = os.path.join(folder, "j_volume_spheres.gltf")
+    b.write(p)
+    paths.append(p)
+
+    # (k) The extensions' textures, in stripes: (g)'s coat at 60 degrees with a clearcoatTexture
+    # (R) and a clearcoatRoughnessTexture (G, stripes twice as wide, roughness factor 1);
+    # (h)'s specular quad at 60 degrees with a specularTexture (A) and a specularColorTexture
+    # (RGB, sRGB: a blue stripe); (i)'s pane with a transmissionTexture (R).
+    b = GltfBuilder()
+    coat = stripes(0)
+    coat[:, :, 1] = stripes(1, period=4)[:, :, 1]
+    t = b.texture(coat)
+    m = b.material(name="red_r0.6_clearcoat_textured", **pbr(
+        [0.8, 0.1, 0.1], 0.0, 0.6,
+        extensions={"KHR_materials_clearcoat": {
+            "clearcoatFactor": 1.0, "clearcoatTexture": {"index": t},
+            "clearcoatRoughnessFactor": 1.0, "clearcoatRoughnessTexture": {"index": t}}}))
+    with_ext(b, "KHR_materials_clearcoat")
+    b.node(mesh=b.quad(2.0, m), name="quad", rotation=rot_x(-60.0))
+    p = os.path.join(folder, "k_clearcoat_textured.gltf")
+    b.write(p)
+    paths.append(p)
+
+    b = GltfBuilder()
+    spec = stripes(3)
+    spec[:, :4, 0:2] = 64
+    t = b.texture(spec)
+    m = b.material(name="grey_r0.3_specular_textured", **pbr(
+        [0.5, 0.5, 0.5], 0.0, 0.3,
+        extensions={"KHR_materials_specular": {
+            "specularTexture": {"index": t}, "specularColorTexture": {"index": t}}}))
+    with_ext(b, "KHR_materials_specular")
+    b.node(mesh=b.quad(2.0, m), name="quad", rotation=rot_x(-60.0))
+    p = os.path.join(folder, "k_specular_textured.gltf")
+    b.write(p)
+    paths.append(p)
+
+    b = GltfBuilder()
+    back = b.material(name="orange_backdrop_r1", **pbr([0.8, 0.4, 0.1], 0.0, 1.0))
+    t = b.texture(stripes(0))
+    pane = b.material(name="pane_transmission_textured_r0.2", doubleSided=True, **pbr(
+        [1.0, 1.0, 1.0], 0.0, 0.2,
+        extensions={"KHR_materials_transmission": {
+            "transmissionFactor": 1.0, "transmissionTexture": {"index": t}}}))
+    with_ext(b, "KHR_materials_transmission")
+    b.node(mesh=b.quad(3.0, back), name="backdrop")
+    b.node(mesh=b.quad(2.0, pane, z=0.5), name="pane")
+    p = os.path.join(folder, "k_transmission_textured.gltf")
     b.write(p)
     paths.append(p)
     return paths

@@ -6,8 +6,8 @@
 //!   image with the same seed: relMSE at most [`ROUNDING`].
 //! - On a Cornell box given every feature (textures of each kind, a normal-mapped panel, an
 //!   alpha-masked block, vertex colours on the panel, which is alpha-blended, a clear-coated
-//!   left wall, a transmissive right wall, a sheen on the ceiling, point, spot and directional lights, an environment
-//!   image, an
+//!   left wall (its coat textured), a transmissive right wall, a sheen on the ceiling (its
+//!   colour textured), point, spot and directional lights, an environment image, an
 //!   emitting short block, whose triangles with the light's are enough for a light tree), the
 //!   pipeline for exactly the scene's features renders the all-features image, and turning any
 //!   one flag off changes the image (relMSE above [`MISSING`]).
@@ -187,6 +187,7 @@ fn cornell_with_every_feature() -> World {
     edit_material(&mut world, "left wall", |m| {
         m.clearcoat = 1.0;
         m.clearcoat_roughness = 0.1;
+        m.layer_textures.clearcoat = Some(bumps);
     });
     edit_material(&mut world, "right wall", |m| {
         m.roughness = 0.3;
@@ -195,6 +196,7 @@ fn cornell_with_every_feature() -> World {
     edit_material(&mut world, "ceiling", |m| {
         m.sheen_color = Vec3::new(0.2, 0.9, 0.5);
         m.sheen_roughness = 0.4;
+        m.layer_textures.sheen_color = Some(checker);
     });
     mask_tall_block(&mut world);
     edit_material(&mut world, "short block", |m| {
