@@ -51,8 +51,8 @@ glTF BRDF's directional albedo read off the centre region), a point light of 100
 (light units), a vertex-colour quad, an alpha-blended quad over a coloured floor, and the material
 extensions: a clear-coated quad (facing and at 60 degrees), a KHR_materials_specular quad, a
 transmissive pane over a coloured backdrop, glass spheres (volume), and the coat, specular and
-pane again with the extensions' textures in stripes (k_*). After import, the Principled BSDF inputs of
-KHR_materials_clearcoat / _specular / _transmission are checked against the glTF definition
+pane again with the extensions' textures in stripes (k_*). After import, the Principled BSDF
+inputs of KHR_materials_clearcoat / _specular / _transmission are checked against the glTF definition
 (EXTENSION_SOCKETS in cycles_crosscheck/cycles.py) and set where they differ. A scene can
 ask for its own environment through asset.extras.cycles_crosscheck.env ("R,G,B"), and for the
 centre-region probe through asset.extras.cycles_crosscheck.probe = "centre".

@@ -7,7 +7,8 @@
 // Per pixel: world position, geometric and shading normals (octahedral, Cigolle et al., "A
 // Survey of Efficient Representations for Independent Unit Vectors", JCGT 3(2), 2014), base
 // colour (factor x texture x vertex colour), metallic, roughness, emission, instance id, the
-// motion vector and the triangle's number in its mesh; depth in the depth attachment. Alpha-masked texels are discarded, and
+// motion vector and the triangle's number in its mesh; depth in the depth attachment.
+// Alpha-masked texels are discarded, and
 // alpha-blended fragments with probability 1 - alpha (stochastic coverage, coverage.wgsl),
 // the number hashed from the pixel, the frame's camera.frame_seed, the instance and the depth,
 // so the frames that accumulate see every fragment in proportion to its alpha. Surfaces are shaded as chiaro_reference's

@@ -1,8 +1,8 @@
 // The inputs of a compute pass that shades the G-buffer (chiaro_gpu's GbufferShadingPass):
 // group 1, bindings 0..3, the G-buffer's position, surface and emission targets and the
 // camera, and binding 15, its triangle target (a read-only storage texture: the indirect pass
-// uses all 16 sampled textures of WebGPU's downlevel limits). The pass declares binding 4 (its parameters)
-// and its images from binding 5 on itself.
+// uses all 16 sampled textures of WebGPU's downlevel limits). The pass declares binding 4 (its
+// parameters) and its images from binding 5 on itself.
 
 #import lib/camera.wgsl
 #import lib/gbuffer_packing.wgsl

@@ -2,8 +2,9 @@
 //! KHR_materials_clearcoat, KHR_materials_sheen, KHR_materials_transmission and
 //! KHR_materials_volume. Each factor is checked against its range; a value outside it is
 //! repaired with a line that says so, never trusted. Their textures multiply the factors
-//! ([`crate::material::LayerTextures`]), except the clear coat's normal texture: the coat shares the material's
-//! shading normal, and a file that names one gets a repair line saying so.
+//! ([`crate::material::LayerTextures`]), except the clear coat's normal texture: the coat
+//! shares the material's shading normal, and a file that names one gets a repair line saying
+//! so.
 
 use glam::Vec3;
 use serde_json::Value;
@@ -230,8 +231,9 @@ impl MaterialImporter<'_> {
     }
 
     /// The texture info `field` of `ext` (its `index`, `texCoord` and KHR_texture_transform),
-    /// decoded in `space` as the `name` texture of one of [`crate::material::LayerTextures`]. None when absent;
-    /// None with a repair line when it names no texture of the file or cannot be decoded.
+    /// decoded in `space` as the `name` texture of one of [`crate::material::LayerTextures`].
+    /// None when absent; None with a repair line when it names no texture of the file or cannot
+    /// be decoded.
     fn layer_texture(
         &mut self,
         element: &str,
