@@ -8,10 +8,7 @@ use chiaro_reference::{PathSettings, RenderSettings, rel_mse, render_world};
 use chiaro_scene::builtin::shapes::quad;
 use chiaro_scene::material::Sampler;
 use chiaro_scene::texture::{ColorSpace, Texture};
-use chiaro_scene::{
-    Camera, Environment, LayerTextures, Material, Node, Projection, SceneBuilder, TextureRef,
-    Transform,
-};
+use chiaro_scene::{Environment, LayerTextures, Material, SceneBuilder, TextureRef, Transform};
 use chiaro_shading::color::srgb_to_linear;
 use glam::{Affine2, Vec3, Vec4};
 
@@ -32,19 +29,7 @@ fn render(material: Material, texture: Option<Texture>) -> Vec<Vec3> {
         .unwrap()
         .unwrap();
     b.add_instance("card", mesh, id, Transform::IDENTITY);
-    b.add_node(Node {
-        name: Some("camera".into()),
-        transform: Transform::looking_at(Vec3::new(0.5, 0.8, 2.0), Vec3::ZERO, Vec3::Y),
-        camera: Some(Camera {
-            projection: Projection::Perspective {
-                yfov: 60f32.to_radians(),
-                aspect_ratio: None,
-                znear: 0.01,
-                zfar: None,
-            },
-        }),
-        ..Node::default()
-    });
+    b.add_camera(Vec3::new(0.5, 0.8, 2.0), Vec3::ZERO, 60.0);
     b.set_environment(Environment::constant(Vec3::ONE));
     let mut world = World::new();
     b.spawn(&mut world);

@@ -5,11 +5,11 @@
 use bevy_ecs::hierarchy::ChildOf;
 use bevy_ecs::name::Name;
 use bevy_ecs::prelude::*;
-use glam::Affine3A;
+use glam::{Affine3A, Vec3};
 
 use crate::animation::{AnimationClip, Animations};
 use crate::bounds::Aabb;
-use crate::components::{ActiveCamera, Camera, Light, MeshInstance, Skinned};
+use crate::components::{ActiveCamera, Camera, Light, MeshInstance, Projection, Skinned};
 use crate::deformation::DeformedMesh;
 use crate::environment::Environment;
 use crate::error::{ImportReport, Repair, SceneError};
@@ -152,6 +152,25 @@ impl SceneBuilder {
     pub fn add_texture(&mut self, texture: Texture) -> TextureId {
         self.textures.push(texture);
         TextureId(self.textures.len() as u32 - 1)
+    }
+
+    /// Adds a perspective camera node named "camera" at `eye` looking at `target` (+Y up), with
+    /// a vertical field of view of `yfov_degrees`, the image's aspect ratio and a near plane at
+    /// 0.01.
+    pub fn add_camera(&mut self, eye: Vec3, target: Vec3, yfov_degrees: f32) -> NodeIndex {
+        self.add_node(Node {
+            name: Some("camera".into()),
+            transform: Transform::looking_at(eye, target, Vec3::Y),
+            camera: Some(Camera {
+                projection: Projection::Perspective {
+                    yfov: yfov_degrees.to_radians(),
+                    aspect_ratio: None,
+                    znear: 0.01,
+                    zfar: None,
+                },
+            }),
+            ..Node::default()
+        })
     }
 
     /// Adds a node. Its parent, if any, must already be in the builder.

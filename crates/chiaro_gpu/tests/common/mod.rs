@@ -2,7 +2,7 @@
 
 use bevy_ecs::world::World;
 use chiaro_gpu::{ContextError, GpuContext};
-use chiaro_scene::{Camera, Environment, Materials, Node, Projection, SceneBuilder, Transform};
+use chiaro_scene::{Environment, Materials, SceneBuilder};
 use glam::{Vec3, Vec4};
 
 /// A GPU context for a test, or `None` (after a message) when this machine has no adapter.
@@ -107,19 +107,7 @@ pub fn recolour_red_wall(world: &mut World) {
 /// camera) under a uniform white sky, spawned into a new World.
 #[allow(dead_code)]
 pub fn spawn_under_white_sky(mut b: SceneBuilder, eye: Vec3) -> World {
-    b.add_node(Node {
-        name: Some("camera".into()),
-        transform: Transform::looking_at(eye, Vec3::ZERO, Vec3::Y),
-        camera: Some(Camera {
-            projection: Projection::Perspective {
-                yfov: 45f32.to_radians(),
-                aspect_ratio: None,
-                znear: 0.01,
-                zfar: None,
-            },
-        }),
-        ..Node::default()
-    });
+    b.add_camera(eye, Vec3::ZERO, 45.0);
     b.set_environment(Environment::constant(Vec3::ONE));
     let mut world = World::new();
     b.spawn(&mut world);

@@ -15,8 +15,8 @@ use crate::mesh_repair::MeshData;
 use crate::scene_builder::SceneBuilder;
 use crate::transform::Transform;
 
+use super::add_shape;
 use super::shapes::{append_band, floor, icosphere, quad};
-use super::{add_camera, add_shape};
 
 /// Where the emitter's centre is.
 const LIGHT: Vec3 = Vec3::new(2.8, 1.7, 1.2);
@@ -105,12 +105,7 @@ pub(super) fn build(b: &mut SceneBuilder) -> Result<(), SceneError> {
         Transform::from_translation(sphere_center).with_scale(Vec3::splat(sphere_radius)),
     )?;
 
-    add_camera(
-        b,
-        Vec3::new(0.2, 1.8, 2.6),
-        Vec3::new(-0.1, 0.0, -0.1),
-        45.0,
-    );
+    b.add_camera(Vec3::new(0.2, 1.8, 2.6), Vec3::new(-0.1, 0.0, -0.1), 45.0);
     Ok(())
 }
 

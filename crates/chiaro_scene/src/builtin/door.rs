@@ -14,8 +14,8 @@ use crate::material::Material;
 use crate::scene_builder::SceneBuilder;
 use crate::transform::Transform;
 
+use super::add_shape;
 use super::shapes::{self, cuboid, icosphere, quad, room};
-use super::{add_camera, add_shape};
 
 /// Half the rooms' width (along X).
 const HALF_WIDTH: f32 = 2.0;
@@ -152,12 +152,7 @@ pub(super) fn build(b: &mut SceneBuilder) -> Result<(), SceneError> {
             .with_rotation(Quat::from_rotation_y(0.4)),
     )?;
 
-    add_camera(
-        b,
-        Vec3::new(-1.6, 1.55, 4.3),
-        Vec3::new(0.7, 0.85, 0.3),
-        60.0,
-    );
+    b.add_camera(Vec3::new(-1.6, 1.55, 4.3), Vec3::new(0.7, 0.85, 0.3), 60.0);
     Ok(())
 }
 

@@ -5,10 +5,9 @@
 
 use glam::Vec3;
 
-use crate::components::{Camera, Projection};
 use crate::error::SceneError;
 use crate::material::Material;
-use crate::scene_builder::{Node, SceneBuilder};
+use crate::scene_builder::SceneBuilder;
 use crate::transform::Transform;
 
 use super::shapes::icosphere;
@@ -33,22 +32,6 @@ pub(super) fn build(b: &mut SceneBuilder) -> Result<(), SceneError> {
             Transform::IDENTITY.with_scale(Vec3::splat(10.0)),
         );
     }
-    b.add_node(Node {
-        name: Some("camera".into()),
-        transform: Transform::looking_at(
-            Vec3::new(0.0, 1.0, 2.0),
-            Vec3::new(0.0, 0.0, -3.0),
-            Vec3::Y,
-        ),
-        camera: Some(Camera {
-            projection: Projection::Perspective {
-                yfov: 60f32.to_radians(),
-                aspect_ratio: None,
-                znear: 0.01,
-                zfar: None,
-            },
-        }),
-        ..Node::default()
-    });
+    b.add_camera(Vec3::new(0.0, 1.0, 2.0), Vec3::new(0.0, 0.0, -3.0), 60.0);
     Ok(())
 }

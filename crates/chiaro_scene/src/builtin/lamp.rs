@@ -15,8 +15,8 @@ use crate::mesh_repair::MeshData;
 use crate::scene_builder::SceneBuilder;
 use crate::transform::Transform;
 
+use super::add_shape;
 use super::shapes::{self, append_band, cuboid, icosphere, room};
-use super::{add_camera, add_shape};
 
 /// Half the room's side.
 const HALF: f32 = 2.5;
@@ -116,12 +116,7 @@ pub(super) fn build(b: &mut SceneBuilder) -> Result<(), SceneError> {
         add_shape(b, name, material, cuboid(min, max), Transform::IDENTITY)?;
     }
 
-    add_camera(
-        b,
-        Vec3::new(2.1, 1.5, 2.2),
-        Vec3::new(-0.3, 0.8, -0.2),
-        60.0,
-    );
+    b.add_camera(Vec3::new(2.1, 1.5, 2.2), Vec3::new(-0.3, 0.8, -0.2), 60.0);
     Ok(())
 }
 

@@ -30,13 +30,10 @@ pub mod walkthrough;
 
 use std::collections::BTreeMap;
 
-use glam::Vec3;
-
-use crate::components::{Camera, Projection};
 use crate::error::{Fault, SceneError};
 use crate::material::MaterialId;
 use crate::mesh_repair::MeshData;
-use crate::scene_builder::{Node, SceneBuilder};
+use crate::scene_builder::SceneBuilder;
 use crate::transform::Transform;
 
 pub use hard_cases::{CASES_ALONE, HARD_CASES, hard_case_scene};
@@ -144,24 +141,6 @@ pub(super) fn add_shape(
         b.add_instance(name, mesh, material, transform);
     }
     Ok(())
-}
-
-/// Adds a perspective camera at `eye` looking at `target` (+Y up) with a vertical field of view
-/// of `yfov_degrees`, the image's aspect ratio.
-pub(super) fn add_camera(b: &mut SceneBuilder, eye: Vec3, target: Vec3, yfov_degrees: f32) {
-    b.add_node(Node {
-        name: Some("camera".into()),
-        transform: Transform::looking_at(eye, target, Vec3::Y),
-        camera: Some(Camera {
-            projection: Projection::Perspective {
-                yfov: yfov_degrees.to_radians(),
-                aspect_ratio: None,
-                znear: 0.01,
-                zfar: None,
-            },
-        }),
-        ..Node::default()
-    });
 }
 
 /// A small deterministic generator (SplitMix64) for scene layouts: same parameters, same scene.
