@@ -1,6 +1,12 @@
 //! Tangent generation with MikkTSpace (the bevy_mikktspace port), the tangent space normal maps
 //! are baked in. MikkTSpace works per triangle corner, so the mesh is unwelded, given tangents,
 //! and welded again where every attribute of two corners is bit-identical.
+//!
+//! glTF's normal textures are "+X right, +Y up" in the image, and glTF's V runs down the image:
+//! the bitangent points toward decreasing V. MikkTSpace's points toward increasing V, so it is
+//! given V negated; an upright texture on an unmirrored surface then has W = +1, as in the
+//! tangents Blender writes and as the Khronos sample viewer derives them
+//! (bitangent = cross(normal, tangent)).
 
 use std::collections::HashMap;
 
@@ -32,7 +38,8 @@ impl bevy_mikktspace::Geometry for Corners<'_> {
     }
 
     fn tex_coord(&self, face: usize, vert: usize) -> [f32; 2] {
-        self.uvs()[self.vertex(face, vert)].to_array()
+        let uv = self.uvs()[self.vertex(face, vert)];
+        [uv.x, -uv.y]
     }
 
     fn set_tangent(
@@ -107,12 +114,14 @@ mod tests {
     use crate::mesh_repair::MeshData;
     use glam::{Vec2, Vec3};
 
+    /// A unit quad in the XY plane facing +Z with the texture upright (glTF's V down, so V
+    /// grows toward -Y): tangent +X, bitangent cross(Z, X) = +Y, the image's up.
     #[test]
-    fn planar_quad_gets_tangents_along_u() {
+    fn upright_texture_gets_tangents_along_u_and_bitangents_up_the_image() {
         let data = MeshData {
             positions: vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y],
             normals: Some(vec![Vec3::Z; 4]),
-            uvs: [Some(vec![Vec2::ZERO, Vec2::X, Vec2::ONE, Vec2::Y]), None],
+            uvs: [Some(vec![Vec2::Y, Vec2::ONE, Vec2::X, Vec2::ZERO]), None],
             indices: Some(vec![0, 1, 2, 0, 2, 3]),
             tangent_uv_set: Some(0),
             ..Default::default()
@@ -127,12 +136,14 @@ mod tests {
         }
     }
 
+    /// V growing toward +Y shows the image upside down: the bitangent (toward decreasing V) is
+    /// -Y, so W = -1.
     #[test]
-    fn mirrored_uvs_flip_the_bitangent_sign() {
+    fn a_vertically_mirrored_texture_flips_the_bitangent_sign() {
         let data = MeshData {
             positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
             normals: Some(vec![Vec3::Z; 3]),
-            uvs: [Some(vec![Vec2::ZERO, Vec2::X, Vec2::new(0.0, -1.0)]), None],
+            uvs: [Some(vec![Vec2::ZERO, Vec2::X, Vec2::Y]), None],
             tangent_uv_set: Some(0),
             ..Default::default()
         };
