@@ -11,8 +11,10 @@
 //!   material has one: sheen_color Charlie(wo, wi) + base albedo_scaling ([`crate::sheen`]);
 //! - f = (1 - absorption) fresnel_coat: mix(base, coat D_c V_c, clearcoat F_c(n.wo)), with
 //!   KHR_materials_clearcoat's coat a GGX lobe of its own roughness and F_c Schlick with F0
-//!   0.04 (without the extension clearcoat = 0 and f is the base alone). The coat shares the
-//!   shading normal (the extension's separate coat normal map is not read).
+//!   0.04 (without the extension clearcoat = 0 and f is the base alone). The coat has its own
+//!   normal n_c (`coat_normal`; [`layers`]): F_c takes n_c.wo and the coat's lobe lives in the
+//!   frame around n_c, times (n_c.wi) / (n.wi) so that each layer weighs light by its own
+//!   normal's cosine.
 //!
 //! - D: GGX with alpha = roughness^2 ([`crate::ggx::ndf`]; Walter et al., 2007, "Microfacet Models
 //!   for Refraction through Rough Surfaces").
@@ -47,14 +49,14 @@
 //! - the cosine passed to Schlick's formula is clamped to [0, 1];
 //! - the visibility denominator is kept at least [`crate::ggx::VISIBILITY_DENOMINATOR_FLOOR`].
 //!
-//! Defined answers: wo.z <= 0 or wi.z <= 0 gives zero from [`eval`] and [`pdf`] and `None` from
+//! Defined answers: wo.z <= 0 or wi.z = 0 gives zero from [`eval`] and [`pdf`] and `None` from
 //! [`sample`]. No finite input (unit directions, parameters anywhere) yields NaN or infinity.
 
 use std::f32::consts::{FRAC_1_PI, PI};
 
 use glam::{Vec2, Vec3};
 
-use crate::color::luminance;
+use crate::frame::Frame;
 use crate::ggx;
 use crate::sampling::cosine_hemisphere;
 use crate::sheen;
@@ -129,6 +131,10 @@ pub struct SurfaceParams {
     /// (the default), whose transmission does not refract. Values that are not finite and
     /// positive count as 0.
     pub eta: f32,
+    /// KHR_materials_clearcoat's coat normal in the local shading frame: the coat's Fresnel
+    /// blend and lobe take it. +z (the default) is the shading normal itself; a vector that
+    /// cannot be normalized counts as +z.
+    pub coat_normal: Vec3,
 }
 
 impl Default for SurfaceParams {
@@ -148,6 +154,7 @@ impl Default for SurfaceParams {
             sheen_roughness: 0.0,
             absorption: 0.0,
             eta: 0.0,
+            coat_normal: Vec3::Z,
         }
     }
 }
@@ -197,6 +204,8 @@ struct Material {
     coat_alpha: f32,
     /// The coat's alpha is below [`MIRROR_ALPHA`]: its lobe is a delta.
     coat_mirror: bool,
+    /// The frame around the coat's normal; None when it is the shading normal.
+    coat_frame: Option<Frame>,
     /// KHR_materials_transmission's factor.
     transmission: f32,
     /// KHR_materials_sheen's colour (black: no sheen).
@@ -246,7 +255,7 @@ pub fn lobe_probabilities(p: &SurfaceParams, wo: Vec3) -> LobeProbabilities {
             transmission: 0.0,
         };
     }
-    Material::new(p).lobe_probabilities(wo.z)
+    Material::new(p).lobe_probabilities(wo)
 }
 
 impl Material {
@@ -271,6 +280,7 @@ impl Material {
             clearcoat: p.clearcoat.clamp(0.0, 1.0),
             coat_alpha,
             coat_mirror: coat_alpha < MIRROR_ALPHA,
+            coat_frame: layers::coat_frame(p.coat_normal),
             transmission: p.transmission.clamp(0.0, 1.0),
             sheen_color: p.sheen_color.clamp(Vec3::ZERO, Vec3::ONE),
             sheen_roughness: p.sheen_roughness.clamp(0.0, 1.0),
@@ -307,79 +317,10 @@ impl Material {
             transmission: beneath * self.transmission,
         }
     }
-
-    /// Selection probabilities for this view: the coat against the rest by their weights at
-    /// n.wo, then the sheen against the base beneath it, then within the base the specular
-    /// lobe against the diffuse one (and transmission) by the luminance of their Fresnel
-    /// weights; each split kept in [`MIN_LOBE_PROBABILITY`], 1 - [`MIN_LOBE_PROBABILITY`] when
-    /// both sides exist, exactly 0 or 1 when only one does.
-    fn lobe_probabilities(&self, wo_z: f32) -> LobeProbabilities {
-        let weights = self.fresnel(wo_z);
-        let specular = luminance(weights.specular);
-        let mut diffuse = luminance(weights.diffuse + weights.transmission);
-        if diffuse <= 0.0 && self.refracts_past_the_critical_angle() {
-            // Inside a volume past the critical angle at the normal, tilted microfacets still
-            // refract: the transmission keeps the smallest share instead of none.
-            diffuse = f32::MIN_POSITIVE;
-        }
-        let coat = self.coat_weight(wo_z);
-        let sheen = self.sheen_estimate(wo_z);
-        let base = self.sheen_scaling(wo_z, wo_z) * (specular + diffuse);
-        let p_coat = split(coat, self.base_weight(wo_z) * (sheen + base));
-        let none = LobeProbabilities {
-            coat: 0.0,
-            sheen: 0.0,
-            specular: 0.0,
-            diffuse: 0.0,
-            transmission: 0.0,
-        };
-        if p_coat.is_nan() {
-            return none;
-        }
-        let p_sheen = split(sheen, base);
-        if p_sheen.is_nan() {
-            return LobeProbabilities { coat: 1.0, ..none };
-        }
-        let p_specular = split(specular, diffuse);
-        let p_layer = 1.0 - p_coat;
-        if p_specular.is_nan() {
-            return LobeProbabilities {
-                coat: p_coat,
-                sheen: p_layer,
-                ..none
-            };
-        }
-        let p_base = p_layer * (1.0 - p_sheen);
-        // Beneath the specular layer the diffuse and transmission weights differ only by
-        // (1 - transmission) against transmission.
-        let beneath = p_base * (1.0 - p_specular);
-        LobeProbabilities {
-            coat: p_coat,
-            sheen: p_layer * p_sheen,
-            specular: p_base * p_specular,
-            diffuse: beneath * (1.0 - self.transmission),
-            transmission: beneath * self.transmission,
-        }
-    }
 }
 
 /// KHR_materials_clearcoat's coat: IOR 1.5, so F0 0.04.
 pub const COAT_F0: f32 = 0.04;
-
-/// The probability of picking side `a` against side `b` from their weights: NaN when both are
-/// zero, 0 or 1 when one is, otherwise a / (a + b) kept in [`MIN_LOBE_PROBABILITY`],
-/// 1 - [`MIN_LOBE_PROBABILITY`].
-fn split(a: f32, b: f32) -> f32 {
-    if a <= 0.0 && b <= 0.0 {
-        f32::NAN
-    } else if b <= 0.0 {
-        1.0
-    } else if a <= 0.0 {
-        0.0
-    } else {
-        (a / (a + b)).clamp(MIN_LOBE_PROBABILITY, 1.0 - MIN_LOBE_PROBABILITY)
-    }
-}
 
 /// The unit half vector of two unit directions above the surface. The sum is divided by its
 /// largest component before normalizing, so it cannot underflow even when wo and wi are nearly
@@ -402,7 +343,7 @@ struct Lobes {
     specular: Vec3,
     /// The sheen's f: sheen_color times the Charlie lobe.
     sheen: Vec3,
-    /// The coat's D V (0 for a mirror coat, whose delta is no part of f).
+    /// The coat's D V, times its cosine ratio ([`Material::coat_lobe`]).
     coat: f32,
 }
 
@@ -414,11 +355,7 @@ fn lobes(m: &Material, wo: Vec3, wi: Vec3) -> Lobes {
     } else {
         weights.specular * (ggx::ndf(h, m.alpha) * ggx::visibility(wo, wi, m.alpha))
     };
-    let coat = if m.clearcoat <= 0.0 || m.coat_mirror {
-        0.0
-    } else {
-        ggx::ndf(h, m.coat_alpha) * ggx::visibility(wo, wi, m.coat_alpha)
-    };
+    let coat = m.coat_lobe(wo, wi);
     let (sheen, scaling) = if m.sheen_color.max_element() <= 0.0 {
         (Vec3::ZERO, 1.0)
     } else {
@@ -452,7 +389,7 @@ pub fn specular_probability(p: &SurfaceParams, wo: Vec3) -> f32 {
     if wo.z <= 0.0 {
         return 0.0;
     }
-    Material::new(p).lobe_probabilities(wo.z).specular
+    Material::new(p).lobe_probabilities(wo).specular
 }
 
 /// The BSDF value f(wo, wi) (no cosine), for unit local directions: the reflection lobes for
@@ -468,8 +405,8 @@ pub fn eval(p: &SurfaceParams, wo: Vec3, wi: Vec3) -> Vec3 {
         return m.transmission_eval(wo, wi);
     }
     let l = lobes(&m, wo, wi);
-    let coat = m.coat_weight(wo.z);
-    ((l.diffuse * FRAC_1_PI + l.specular + l.sheen) * m.base_weight(wo.z)
+    let coat = m.coat_weight(wo);
+    ((l.diffuse * FRAC_1_PI + l.specular + l.sheen) * m.base_weight(wo)
         + Vec3::splat(l.coat * coat))
         * m.scale
 }
@@ -482,7 +419,7 @@ pub fn pdf(p: &SurfaceParams, wo: Vec3, wi: Vec3) -> f32 {
         return 0.0;
     }
     let m = Material::new(p);
-    let probabilities = m.lobe_probabilities(wo.z);
+    let probabilities = m.lobe_probabilities(wo);
     if wi.z < 0.0 {
         return m.transmission_pdf(wo, wi, probabilities);
     }
@@ -500,7 +437,7 @@ fn glossy_lobes_pdf(m: &Material, wo: Vec3, wi: Vec3, p: LobeProbabilities) -> f
         pdf += p.specular * glossy_pdf(m.mirror, m.alpha, wo, wi);
     }
     if p.coat > 0.0 {
-        pdf += p.coat * glossy_pdf(m.coat_mirror, m.coat_alpha, wo, wi);
+        pdf += p.coat * m.coat_pdf(wo, wi);
     }
     pdf
 }
@@ -509,26 +446,35 @@ fn combined_pdf(m: &Material, wo: Vec3, wi: Vec3, p: LobeProbabilities) -> f32 {
     p.diffuse * (wi.z * FRAC_1_PI) + glossy_lobes_pdf(m, wo, wi, p)
 }
 
-/// The sample of the mirror direction, when a delta lobe (the base's specular or the coat) is
-/// picked: both deltas point the same way, so the sample carries both, over their summed
-/// selection probability.
-fn mirror_sample(m: &Material, wo: Vec3, p: LobeProbabilities) -> BrdfSample {
-    let coat = m.coat_weight(wo.z);
+/// The sample of a mirror direction, when a delta lobe (the base's specular or, with `coat`,
+/// the coat) is picked. Where the coat takes the shading normal both deltas point the same
+/// way, so the sample carries both, over their summed selection probability; a coat with a
+/// normal of its own reflects on its own. None when the reflection leaves below the surface.
+fn mirror_sample(m: &Material, wo: Vec3, p: LobeProbabilities, coat: bool) -> Option<BrdfSample> {
+    let shared = m.coat_frame.is_none();
     let (mut weight, mut pdf) = (Vec3::ZERO, 0.0);
-    if m.mirror && p.specular > 0.0 {
-        weight += m.fresnel(wo.z).specular * (m.base_weight(wo.z) * m.sheen_scaling(wo.z, wo.z));
+    if m.mirror && p.specular > 0.0 && (shared || !coat) {
+        weight += m.fresnel(wo.z).specular * (m.base_weight(wo) * m.sheen_scaling(wo.z, wo.z));
         pdf += p.specular;
     }
-    if m.coat_mirror && p.coat > 0.0 {
-        weight += Vec3::splat(coat);
+    if m.coat_mirror && p.coat > 0.0 && (shared || coat) {
+        weight += Vec3::splat(m.coat_weight(wo));
         pdf += p.coat;
     }
-    BrdfSample {
-        wi: Vec3::new(-wo.x, -wo.y, wo.z),
+    let wi = if coat {
+        m.coat_mirror_direction(wo)
+    } else {
+        Vec3::new(-wo.x, -wo.y, wo.z)
+    };
+    if wi.z <= 0.0 {
+        return None;
+    }
+    Some(BrdfSample {
+        wi,
         weight: weight * m.scale / pdf,
         pdf,
         delta: true,
-    }
+    })
 }
 
 /// Draws an incident direction for the view `wo` (local frame): `u_lobe` picks the lobe (the
@@ -542,7 +488,7 @@ pub fn sample(p: &SurfaceParams, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BrdfS
         return None;
     }
     let m = Material::new(p);
-    let probabilities = m.lobe_probabilities(wo.z);
+    let probabilities = m.lobe_probabilities(wo);
     let LobeProbabilities {
         coat: p_coat,
         sheen: p_sheen,
@@ -557,15 +503,14 @@ pub fn sample(p: &SurfaceParams, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BrdfS
     let u_base = u_lobe - p_coat - p_sheen;
     let wi = if u_lobe < p_coat {
         if m.coat_mirror {
-            return Some(mirror_sample(&m, wo, probabilities));
+            return mirror_sample(&m, wo, probabilities, true);
         }
-        let h = ggx::sample_vndf(wo, m.coat_alpha, u);
-        2.0 * wo.dot(h) * h - wo
+        m.coat_sample(wo, u)
     } else if u_lobe - p_coat < p_sheen {
         sheen::sample(m.sheen_roughness, wo, u)?.0
     } else if u_base < p_specular {
         if m.mirror {
-            return Some(mirror_sample(&m, wo, probabilities));
+            return mirror_sample(&m, wo, probabilities, false);
         }
         let h = ggx::sample_vndf(wo, m.alpha, u);
         2.0 * wo.dot(h) * h - wo
@@ -584,8 +529,8 @@ pub fn sample(p: &SurfaceParams, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BrdfS
     // weight = f cos / pdf, divided through by cos / pi so that it stays finite as wi.z -> 0 and
     // is exactly the diffuse albedo for a purely diffuse material.
     let l = lobes(&m, wo, wi);
-    let coat = m.coat_weight(wo.z);
-    let numerator = ((l.diffuse + (l.specular + l.sheen) * PI) * m.base_weight(wo.z)
+    let coat = m.coat_weight(wo);
+    let numerator = ((l.diffuse + (l.specular + l.sheen) * PI) * m.base_weight(wo)
         + Vec3::splat(l.coat * coat * PI))
         * m.scale;
     let denominator = p_diffuse + glossy_lobes_pdf(&m, wo, wi, probabilities) * PI / wi.z;
@@ -598,6 +543,7 @@ pub fn sample(p: &SurfaceParams, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BrdfS
 }
 
 mod layers;
+mod lobe_choice;
 mod refraction;
 mod transmission;
 

@@ -73,7 +73,7 @@ impl Material {
     /// The layers above the base for a transmitted pair: the coat's blend and the sheen's
     /// albedo scaling, with wi's cosine taken on its own side.
     fn transmitted_layers(&self, wo: Vec3, wi: Vec3) -> f32 {
-        self.base_weight(wo.z) * self.sheen_scaling(wo.z, -wi.z)
+        self.base_weight(wo) * self.sheen_scaling(wo.z, -wi.z)
     }
 
     /// f_t for a rough surface and wi below it, the absorption scale included.

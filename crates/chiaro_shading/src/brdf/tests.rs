@@ -57,6 +57,13 @@ pub(super) fn random_params(rng: &mut Pcg32) -> SurfaceParams {
         3 => [1.5, 1.0 / 1.5, 1.0][(rng.next_u32() % 3) as usize],
         _ => 0.25 + 3.0 * rng.next_f32(),
     };
+    // A quarter of the materials give the coat a normal of its own, tilted up to 52 degrees.
+    let coat_normal = if rng.next_u32().is_multiple_of(4) {
+        let tilt = (rng.next_vec2() * 2.0 - glam::Vec2::ONE) * 0.9;
+        Vec3::new(tilt.x, tilt.y, 1.0).normalize()
+    } else {
+        Vec3::Z
+    };
     SurfaceParams {
         base_color,
         metallic,
@@ -71,6 +78,7 @@ pub(super) fn random_params(rng: &mut Pcg32) -> SurfaceParams {
         sheen_roughness,
         absorption,
         eta,
+        coat_normal,
     }
 }
 
@@ -358,7 +366,7 @@ fn sample_agrees_with_eval_and_pdf() {
                 assert!(s.wi == -wo, "{p:?} {wo} {s:?}");
             }
             assert!(m.transmission_delta, "{p:?}");
-            let probabilities = m.lobe_probabilities(wo.z);
+            let probabilities = m.lobe_probabilities(wo);
             assert_eq!(s.pdf, probabilities.transmission);
             let (wi_z, radiance) = if eta > 0.0 {
                 (-s.wi.z, 1.0 / (eta * eta))
@@ -366,7 +374,7 @@ fn sample_agrees_with_eval_and_pdf() {
                 (wo.z, 1.0)
             };
             let expected = m.fresnel(wo.z).transmission
-                * (m.base_weight(wo.z) * m.sheen_scaling(wo.z, wi_z) * m.scale * radiance / s.pdf);
+                * (m.base_weight(wo) * m.sheen_scaling(wo.z, wi_z) * m.scale * radiance / s.pdf);
             assert!(
                 (s.weight - expected).abs().max_element() < 1e-5 * expected.max_element().max(1.0)
             );
@@ -376,17 +384,27 @@ fn sample_agrees_with_eval_and_pdf() {
             delta += 1;
             let m = Material::new(&p);
             assert!(m.mirror || m.coat_mirror);
-            assert!((s.wi - Vec3::new(-wo.x, -wo.y, wo.z)).length() < 1e-6);
-            // Every delta lobe points the same way: the sample carries all of them.
-            let probabilities = m.lobe_probabilities(wo.z);
+            // Where the coat takes the shading normal every delta lobe points the same way and
+            // the sample carries all of them; a coat with a normal of its own reflects about
+            // it, alone.
+            let shading_mirror = Vec3::new(-wo.x, -wo.y, wo.z);
+            let coat_reflection = match m.coat_frame {
+                Some(frame) => {
+                    let n = frame.normal;
+                    m.coat_mirror && (s.wi - (2.0 * wo.dot(n) * n - wo)).length() < 1e-5
+                }
+                None => false,
+            };
+            assert!(coat_reflection || (s.wi - shading_mirror).length() < 1e-6);
+            let probabilities = m.lobe_probabilities(wo);
             let (mut expected, mut sp) = (Vec3::ZERO, 0.0);
-            if m.mirror {
+            if m.mirror && !coat_reflection {
                 expected +=
-                    m.fresnel(wo.z).specular * (m.base_weight(wo.z) * m.sheen_scaling(wo.z, wo.z));
+                    m.fresnel(wo.z).specular * (m.base_weight(wo) * m.sheen_scaling(wo.z, wo.z));
                 sp += probabilities.specular;
             }
-            if m.coat_mirror {
-                expected += Vec3::splat(m.coat_weight(wo.z));
+            if m.coat_mirror && (coat_reflection || m.coat_frame.is_none()) {
+                expected += Vec3::splat(m.coat_weight(wo));
                 sp += probabilities.coat;
             }
             assert_eq!(s.pdf, sp);
@@ -510,6 +528,7 @@ fn parameters_are_clamped() {
         sheen_roughness: 3.0,
         absorption: -2.0,
         eta: f32::NAN,
+        coat_normal: Vec3::ZERO,
     };
     let tame = SurfaceParams {
         base_color: Vec3::new(1.0, 0.0, 0.5),
@@ -525,6 +544,7 @@ fn parameters_are_clamped() {
         sheen_roughness: 1.0,
         absorption: 0.0,
         eta: 0.0,
+        coat_normal: Vec3::Z,
     };
     assert_eq!(eval(&wild, wo, wi), eval(&tame, wo, wi));
     assert_eq!(pdf(&wild, wo, wi), pdf(&tame, wo, wi));

@@ -36,7 +36,7 @@ impl Material {
         let up = mirrored(wi);
         let h = half_vector(wo, up);
         let lobe = ggx::ndf(h, self.alpha) * ggx::visibility(wo, up, self.alpha);
-        let layers = self.base_weight(wo.z) * self.sheen_scaling(wo.z, up.z);
+        let layers = self.base_weight(wo) * self.sheen_scaling(wo.z, up.z);
         self.fresnel(h.dot(up)).transmission * (lobe * layers * self.scale)
     }
 
@@ -65,7 +65,7 @@ impl Material {
             return self.refraction_sample(wo, u, p);
         }
         if self.transmission_delta {
-            let layers = self.base_weight(wo.z) * self.sheen_scaling(wo.z, wo.z);
+            let layers = self.base_weight(wo) * self.sheen_scaling(wo.z, wo.z);
             let weight = self.fresnel(wo.z).transmission * layers * self.scale;
             return Some(BrdfSample {
                 wi: -wo,
