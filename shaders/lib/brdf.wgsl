@@ -6,9 +6,8 @@
 //   F_d = Schlick(min(f0_ior specular_color, 1), h.wi)
 // metal = Schlick(base_color, h.wi) D V
 // base = mix(dielectric, metal, metallic)
-// f = (1 - absorption) mix(base, coat D_c V_c, clearcoat Schlick(0.04, n.wo))
-//   (KHR_materials_clearcoat's fresnel_coat; the coat code is compiled in only with
-//   FEATURE_CLEARCOAT, and clearcoat is 0 without it)
+// f = (1 - absorption) mix(base, coat D_c V_c, clearcoat Schlick(0.04, n_c.wo))
+//   (KHR_materials_clearcoat's fresnel_coat about the coat's own normal n_c: lib/coat.wgsl)
 //
 // - D and V (Smith height-correlated G2 / (4 n.wo n.wi)) as in ggx.wgsl (Walter et al. 2007;
 //   Heitz 2014); Schlick, 1994, "An Inexpensive BRDF Model for Physically-based Rendering"
@@ -27,6 +26,7 @@
 #import lib/features.wgsl
 #import lib/sheen.wgsl
 #import lib/refraction.wgsl
+#import lib/coat.wgsl
 
 // A surface's material at a shading point, after texture lookup (chiaro_shading's
 // SurfaceParams). Every field is clamped on use.
@@ -45,6 +45,8 @@ struct SurfaceParams {
     absorption: f32,
     // KHR_materials_volume's relative IOR across the surface (0: thin-walled).
     eta: f32,
+    // KHR_materials_clearcoat's coat normal in the shading frame (+z: the shading normal).
+    coat_normal: vec3<f32>,
 }
 
 // A direction drawn by brdf_sample. `valid` is false where the Rust returns None; the other
@@ -69,6 +71,9 @@ struct BrdfMaterial {
     clearcoat: f32,
     coat_alpha: f32,
     coat_mirror: bool,
+    // The coat has a normal of its own, the z of coat_frame.
+    coat_tilted: bool,
+    coat_frame: Frame,
     transmission: f32,
     sheen_color: vec3<f32>,
     sheen_roughness: f32,
@@ -107,10 +112,12 @@ fn brdf_material(p: SurfaceParams) -> BrdfMaterial {
     m.clearcoat = 0.0;
     m.coat_alpha = 1.0;
     m.coat_mirror = false;
+    m.coat_tilted = false;
     if FEATURE_CLEARCOAT {
         m.clearcoat = clamp(p.clearcoat, 0.0, 1.0);
         m.coat_alpha = alpha_from_roughness(p.clearcoat_roughness);
         m.coat_mirror = m.coat_alpha < MIRROR_ALPHA;
+        brdf_set_coat_frame(&m, p.coat_normal);
     }
     m.transmission = 0.0;
     if FEATURE_TRANSMISSION {
@@ -160,25 +167,6 @@ fn brdf_fresnel_outside(m: BrdfMaterial, cos_theta: f32, outside: f32) -> Fresne
     return w;
 }
 
-// KHR_materials_clearcoat's blend for the view: clearcoat Schlick(0.04, n.wo).
-fn brdf_coat_weight(m: BrdfMaterial, wo_z: f32) -> f32 {
-    if !FEATURE_CLEARCOAT || m.clearcoat <= 0.0 {
-        return 0.0;
-    }
-    return m.clearcoat * fresnel_schlick(vec3<f32>(COAT_F0), wo_z).x;
-}
-
-// One minus brdf_coat_weight, as (1 - clearcoat) + clearcoat (1 - F0) (1 - (1 - cos)^5) with
-// the last factor a polynomial in cos: precise at grazing views.
-fn brdf_base_weight(m: BrdfMaterial, wo_z: f32) -> f32 {
-    if !FEATURE_CLEARCOAT || m.clearcoat <= 0.0 {
-        return 1.0;
-    }
-    let x = clamp(wo_z, 0.0, 1.0);
-    let one_minus_m5 = x * (5.0 + x * (-10.0 + x * (10.0 + x * (-5.0 + x))));
-    return (1.0 - m.clearcoat) + m.clearcoat * (1.0 - COAT_F0) * one_minus_m5;
-}
-
 // KHR_materials_sheen's albedo scaling of the base beneath the sheen; exactly 1 without one.
 fn brdf_sheen_scaling(m: BrdfMaterial, wo_z: f32, wi_z: f32) -> f32 {
     if !FEATURE_SHEEN {
@@ -218,7 +206,8 @@ struct BrdfLobeProbabilities {
     transmission: f32,
 }
 
-fn brdf_lobe_probabilities(m: BrdfMaterial, wo_z: f32) -> BrdfLobeProbabilities {
+fn brdf_lobe_probabilities(m: BrdfMaterial, wo: vec3<f32>) -> BrdfLobeProbabilities {
+    let wo_z = wo.z;
     let weights = brdf_fresnel(m, wo_z);
     let specular = luminance(weights.specular);
     var diffuse = luminance(weights.diffuse + weights.transmission);
@@ -227,11 +216,11 @@ fn brdf_lobe_probabilities(m: BrdfMaterial, wo_z: f32) -> BrdfLobeProbabilities 
         // refract: the transmission keeps the smallest share.
         diffuse = F32_MIN_POSITIVE;
     }
-    let coat = brdf_coat_weight(m, wo_z);
+    let coat = brdf_coat_weight(m, wo);
     let sheen = brdf_sheen_estimate(m, wo_z);
     let base = brdf_sheen_scaling(m, wo_z, wo_z) * (specular + diffuse);
     var p = BrdfLobeProbabilities(0.0, 0.0, 0.0, 0.0, 0.0);
-    let p_coat = brdf_split(coat, brdf_base_weight(m, wo_z) * (sheen + base));
+    let p_coat = brdf_split(coat, brdf_base_weight(m, wo) * (sheen + base));
     if p_coat < 0.0 {
         return p;
     }
@@ -269,7 +258,7 @@ fn brdf_half_vector(wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
 }
 
 // The lobes for wo, wi above the surface, without the absorption scale and the coat's blend:
-// pi f_diffuse, f_specular and the coat's D V.
+// pi f_diffuse, f_specular and the coat's D V (times its cosine ratio: brdf_coat_lobe).
 struct BrdfLobes {
     diffuse: vec3<f32>,
     specular: vec3<f32>,
@@ -287,10 +276,7 @@ fn brdf_lobes(m: BrdfMaterial, wo: vec3<f32>, wi: vec3<f32>) -> BrdfLobes {
     } else {
         l.specular = weights.specular * (ndf(h, m.alpha) * visibility(wo, wi, m.alpha));
     }
-    l.coat = 0.0;
-    if FEATURE_CLEARCOAT && m.clearcoat > 0.0 && !m.coat_mirror {
-        l.coat = ndf(h, m.coat_alpha) * visibility(wo, wi, m.coat_alpha);
-    }
+    l.coat = brdf_coat_lobe(m, wo, wi);
     l.sheen = vec3<f32>(0.0);
     if FEATURE_SHEEN && max(max(m.sheen_color.x, m.sheen_color.y), m.sheen_color.z) > 0.0 {
         l.sheen = m.sheen_color * sheen_eval(m.sheen_roughness, wo, wi);
@@ -314,7 +300,7 @@ fn specular_probability(p: SurfaceParams, wo: vec3<f32>) -> f32 {
     if wo.z <= 0.0 {
         return 0.0;
     }
-    return brdf_lobe_probabilities(brdf_material(p), wo.z).specular;
+    return brdf_lobe_probabilities(brdf_material(p), wo).specular;
 }
 
 // f(wo, wi) without the cosine: reflection for wi.z > 0, transmission for wi.z < 0; 0 when
@@ -328,8 +314,8 @@ fn brdf_eval(p: SurfaceParams, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
         return brdf_transmission_eval(m, wo, wi);
     }
     let l = brdf_lobes(m, wo, wi);
-    let coat = brdf_coat_weight(m, wo.z);
-    return ((l.diffuse * INV_PI + l.specular + l.sheen) * brdf_base_weight(m, wo.z)
+    let coat = brdf_coat_weight(m, wo);
+    return ((l.diffuse * INV_PI + l.specular + l.sheen) * brdf_base_weight(m, wo)
         + vec3<f32>(l.coat * coat)) * m.scale;
 }
 
@@ -343,7 +329,7 @@ fn brdf_glossy_lobes_pdf(m: BrdfMaterial, wo: vec3<f32>, wi: vec3<f32>, probabil
         pdf += probabilities.specular * brdf_glossy_pdf(m.mirror, m.alpha, wo, wi);
     }
     if FEATURE_CLEARCOAT && probabilities.coat > 0.0 {
-        pdf += probabilities.coat * brdf_glossy_pdf(m.coat_mirror, m.coat_alpha, wo, wi);
+        pdf += probabilities.coat * brdf_coat_pdf(m, wo, wi);
     }
     return pdf;
 }
@@ -359,7 +345,7 @@ fn brdf_pdf(p: SurfaceParams, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
         return 0.0;
     }
     let m = brdf_material(p);
-    let probabilities = brdf_lobe_probabilities(m, wo.z);
+    let probabilities = brdf_lobe_probabilities(m, wo);
     if wi.z < 0.0 {
         return brdf_transmission_pdf(m, wo, wi, probabilities);
     }
@@ -382,7 +368,7 @@ fn brdf_transmission_eval(m: BrdfMaterial, wo: vec3<f32>, wi: vec3<f32>) -> vec3
     let up = brdf_mirrored(wi);
     let h = brdf_half_vector(wo, up);
     let lobe = ndf(h, m.alpha) * visibility(wo, up, m.alpha);
-    let layers = brdf_base_weight(m, wo.z) * brdf_sheen_scaling(m, wo.z, up.z);
+    let layers = brdf_base_weight(m, wo) * brdf_sheen_scaling(m, wo.z, up.z);
     return brdf_fresnel(m, dot(h, up)).transmission * (lobe * layers * m.scale);
 }
 
@@ -397,27 +383,34 @@ fn brdf_transmission_pdf(m: BrdfMaterial, wo: vec3<f32>, wi: vec3<f32>, probabil
     return probabilities.transmission * reflected_vndf_pdf(wo, brdf_half_vector(wo, up), m.alpha);
 }
 
-// The mirror direction's sample: every delta lobe (the base's specular, the coat) points the
-// same way, so it carries all of them over their summed selection probability.
-fn brdf_mirror_sample(m: BrdfMaterial, wo: vec3<f32>, probabilities: BrdfLobeProbabilities) -> BrdfSample {
-    let coat = brdf_coat_weight(m, wo.z);
+// A mirror direction's sample, for a delta lobe picked (the base's specular or, with
+// `coat_lobe`, the coat). Where the coat takes the shading normal every delta lobe points the
+// same way, so the sample carries all of them over their summed selection probability; a coat
+// with a normal of its own reflects alone. Invalid when the reflection leaves below the surface.
+fn brdf_mirror_sample(m: BrdfMaterial, wo: vec3<f32>, probabilities: BrdfLobeProbabilities,
+    coat_lobe: bool) -> BrdfSample {
+    let one_normal = !(FEATURE_CLEARCOAT && m.coat_tilted);
     var weight = vec3<f32>(0.0);
     var pdf = 0.0;
-    if m.mirror && probabilities.specular > 0.0 {
+    if m.mirror && probabilities.specular > 0.0 && (one_normal || !coat_lobe) {
         weight += brdf_fresnel(m, wo.z).specular
-            * (brdf_base_weight(m, wo.z) * brdf_sheen_scaling(m, wo.z, wo.z));
+            * (brdf_base_weight(m, wo) * brdf_sheen_scaling(m, wo.z, wo.z));
         pdf += probabilities.specular;
     }
-    if m.coat_mirror && probabilities.coat > 0.0 {
-        weight += vec3<f32>(coat);
+    if m.coat_mirror && probabilities.coat > 0.0 && (one_normal || coat_lobe) {
+        weight += vec3<f32>(brdf_coat_weight(m, wo));
         pdf += probabilities.coat;
     }
     var s: BrdfSample;
-    s.wi = vec3<f32>(-wo.x, -wo.y, wo.z);
+    s.wi = select(vec3<f32>(-wo.x, -wo.y, wo.z), brdf_coat_mirror_direction(m, wo), coat_lobe);
+    s.delta = true;
+    s.valid = s.wi.z > 0.0;
+    if !s.valid {
+        s.wi = vec3<f32>(0.0);
+        return s;
+    }
     s.weight = weight * m.scale / pdf;
     s.pdf = pdf;
-    s.delta = true;
-    s.valid = true;
     return s;
 }
 
@@ -432,7 +425,7 @@ fn brdf_sample(p: SurfaceParams, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>) -> Br
         return s;
     }
     let m = brdf_material(p);
-    let probabilities = brdf_lobe_probabilities(m, wo.z);
+    let probabilities = brdf_lobe_probabilities(m, wo);
     let p_coat = probabilities.coat;
     let p_sheen = probabilities.sheen;
     let p_specular = probabilities.specular;
@@ -454,7 +447,7 @@ fn brdf_sample(p: SurfaceParams, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>) -> Br
     if transmission_lobe && m.mirror {
         // A smooth thin-walled surface transmits straight through: a delta along -wo.
         s.wi = -wo;
-        let layers = brdf_base_weight(m, wo.z) * brdf_sheen_scaling(m, wo.z, wo.z);
+        let layers = brdf_base_weight(m, wo) * brdf_sheen_scaling(m, wo.z, wo.z);
         s.weight = brdf_fresnel(m, wo.z).transmission * layers * m.scale / p_transmission;
         s.pdf = p_transmission;
         s.delta = true;
@@ -464,10 +457,18 @@ fn brdf_sample(p: SurfaceParams, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>) -> Br
     var wi: vec3<f32>;
     if coat_lobe || specular_lobe || transmission_lobe {
         if (coat_lobe && m.coat_mirror) || (specular_lobe && m.mirror) {
-            return brdf_mirror_sample(m, wo, probabilities);
+            return brdf_mirror_sample(m, wo, probabilities, coat_lobe);
         }
-        // One VNDF call for the glossy lobes (lavapipe runs every arm of a branch).
-        let h = sample_vndf(wo, select(m.alpha, m.coat_alpha, coat_lobe), u);
+        // One VNDF call for the glossy lobes (lavapipe runs every arm of a branch), the coat's
+        // in its own frame.
+        let wo_lobe = select(wo, brdf_coat_local(m, wo), coat_lobe);
+        let h_lobe = sample_vndf(wo_lobe, select(m.alpha, m.coat_alpha, coat_lobe), u);
+        let reflected_lobe = 2.0 * dot(wo_lobe, h_lobe) * h_lobe - wo_lobe;
+        if coat_lobe && (wo_lobe.z <= 0.0 || reflected_lobe.z <= 0.0) {
+            // Reflected below the coat: lost, as brdf_coat_pdf counts nothing there.
+            return s;
+        }
+        let h = select(h_lobe, brdf_coat_to_shading(m, h_lobe), coat_lobe);
         if refraction {
             return brdf_refraction_sample(m, wo, h, probabilities);
         }
@@ -503,8 +504,8 @@ fn brdf_sample(p: SurfaceParams, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>) -> Br
     }
     // f cos / pdf divided through by cos / pi: finite as wi.z -> 0.
     let l = brdf_lobes(m, wo, wi);
-    let coat = brdf_coat_weight(m, wo.z);
-    let numerator = ((l.diffuse + (l.specular + l.sheen) * PI) * brdf_base_weight(m, wo.z)
+    let coat = brdf_coat_weight(m, wo);
+    let numerator = ((l.diffuse + (l.specular + l.sheen) * PI) * brdf_base_weight(m, wo)
         + vec3<f32>(l.coat * coat * PI)) * m.scale;
     let denominator = p_diffuse + brdf_glossy_lobes_pdf(m, wo, wi, probabilities) * PI / wi.z;
     s.wi = wi;

@@ -58,7 +58,7 @@ fn brdf_refract(wo: vec3<f32>, h: vec3<f32>, eta: f32) -> vec4<f32> {
 
 // The coat's blend and the sheen's albedo scaling for a transmitted pair.
 fn brdf_transmitted_layers(m: BrdfMaterial, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
-    return brdf_base_weight(m, wo.z) * brdf_sheen_scaling(m, wo.z, -wi.z);
+    return brdf_base_weight(m, wo) * brdf_sheen_scaling(m, wo.z, -wi.z);
 }
 
 fn brdf_refraction_eval(m: BrdfMaterial, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {

@@ -55,7 +55,7 @@ struct GpuMaterial {
     sheen_roughness: f32,
     transmission: f32,
     ior: f32,
-    pad0: u32,
+    clearcoat_normal_scale: f32,
     pad1: u32,
     attenuation: vec3<f32>,
     pad2: u32,
@@ -70,6 +70,7 @@ struct GpuMaterial {
     transmission_texture: GpuTextureSlot,
     sheen_color_texture: GpuTextureSlot,
     sheen_roughness_texture: GpuTextureSlot,
+    clearcoat_normal_texture: GpuTextureSlot,
 }
 
 // chiaro_gpu::GpuTextureInfo: texel (x, y) is scene_texels[offset + y * width + x], RGBA8.
@@ -175,10 +176,10 @@ fn scene_index(i: u32) -> u32 {
     return texel_array_load(scene_index_texels, i >> 2u)[i & 3u];
 }
 
-// Material i (41 texels: 8 of factors, then 3 for each of the 11 texture slots). The shaders
+// Material i (44 texels: 8 of factors, then 3 for each of the 12 texture slots). The shaders
 // read a few fields of it; the fetches of the others are dead code.
 fn scene_material(i: u32) -> GpuMaterial {
-    let first = 41u * i;
+    let first = 44u * i;
     let base_color = bitcast<vec4<f32>>(texel_array_load(scene_material_texels, first));
     let emission = texel_array_load(scene_material_texels, first + 1u);
     let factors = bitcast<vec4<f32>>(texel_array_load(scene_material_texels, first + 2u));
@@ -191,13 +192,14 @@ fn scene_material(i: u32) -> GpuMaterial {
         factors.x, factors.y, factors.z, factors.w, bitcast<f32>(tail.x), tail.y,
         bitcast<f32>(tail.z), bitcast<f32>(tail.w), bitcast<vec3<f32>>(specular_color.xyz),
         bitcast<f32>(specular_color.w), sheen.xyz, sheen.w, bitcast<f32>(layers.x),
-        bitcast<f32>(layers.y), layers.z, layers.w, bitcast<vec3<f32>>(volume.xyz), volume.w,
+        bitcast<f32>(layers.y), bitcast<f32>(layers.z), layers.w,
+        bitcast<vec3<f32>>(volume.xyz), volume.w,
         scene_texture_slot(first + 8u), scene_texture_slot(first + 11u),
         scene_texture_slot(first + 14u), scene_texture_slot(first + 17u),
         scene_texture_slot(first + 20u), scene_texture_slot(first + 23u),
         scene_texture_slot(first + 26u), scene_texture_slot(first + 29u),
         scene_texture_slot(first + 32u), scene_texture_slot(first + 35u),
-        scene_texture_slot(first + 38u));
+        scene_texture_slot(first + 38u), scene_texture_slot(first + 41u));
 }
 
 // The texture slot at material texel `first` (3 texels).

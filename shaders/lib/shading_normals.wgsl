@@ -28,20 +28,52 @@ fn mapped_shading_normal(
     mirrored: bool,
     geometric_front: vec3<f32>,
 ) -> vec3<f32> {
+    return normal_mapped(material.normal_texture, material.normal_scale, mesh_flags, uvs,
+        interpolated, tangent, mirrored, geometric_front);
+}
+
+// KHR_materials_clearcoat's unit front-side coat normal: `interpolated` bent by the coat's
+// own normal texture (the base's normal map does not reach the coat); the arguments as
+// mapped_shading_normal's.
+fn mapped_coat_normal(
+    material: GpuMaterial,
+    mesh_flags: u32,
+    uvs: vec4<f32>,
+    interpolated: vec3<f32>,
+    tangent: vec4<f32>,
+    mirrored: bool,
+    geometric_front: vec3<f32>,
+) -> vec3<f32> {
+    return normal_mapped(material.clearcoat_normal_texture, material.clearcoat_normal_scale,
+        mesh_flags, uvs, interpolated, tangent, mirrored, geometric_front);
+}
+
+// `interpolated` (unit where it can be; `geometric_front` where it degenerates) bent by the
+// tangent-space normal texture `slot` with XY scaled by `scale`, when the mesh has tangents.
+fn normal_mapped(
+    slot: GpuTextureSlot,
+    scale: f32,
+    mesh_flags: u32,
+    uvs: vec4<f32>,
+    interpolated: vec3<f32>,
+    tangent: vec4<f32>,
+    mirrored: bool,
+    geometric_front: vec3<f32>,
+) -> vec3<f32> {
     let n = safe_normalize(interpolated, geometric_front);
-    if !FEATURE_NORMAL_MAPS || material.normal_texture.texture == NO_INDEX
+    if !FEATURE_NORMAL_MAPS || slot.texture == NO_INDEX
         || (mesh_flags & MESH_HAS_TANGENTS) == 0u {
         return n;
     }
     // Alpha -1 marks a lookup that found no texel (missing UV set or texture).
-    let texel = texture_sample_slot(material.normal_texture, uvs, mesh_flags, vec4<f32>(-1.0));
+    let texel = texture_sample_slot(slot, uvs, mesh_flags, vec4<f32>(-1.0));
     let t = safe_normalize(tangent.xyz - n * dot(n, tangent.xyz), vec3<f32>(0.0));
     if texel.w < 0.0 || all(t == vec3<f32>(0.0)) {
         return n;
     }
     let mirror = select(1.0, -1.0, mirrored);
     let bitangent = cross(n, t) * sign(tangent.w) * mirror;
-    let m = (texel.xyz * 2.0 - 1.0) * vec3<f32>(material.normal_scale, material.normal_scale, 1.0);
+    let m = (texel.xyz * 2.0 - 1.0) * vec3<f32>(scale, scale, 1.0);
     return safe_normalize(t * m.x + bitangent * m.y + n * m.z, n);
 }
 
@@ -64,13 +96,17 @@ fn orient_normals(
     let side = select(-1.0, 1.0, front_facing);
     var o: OrientedNormals;
     o.geometric = geometric_front * side;
-    o.shading = shading_front * side;
-    if dot(o.shading, -incoming) <= 0.0 {
-        o.shading = o.geometric;
-    }
-    o.shading = valid_reflection_normal(o.geometric, normalize(-incoming), o.shading);
+    o.shading = facing_normal(o.geometric, normalize(-incoming), shading_front * side);
     o.shades = front_facing || double_sided;
     return o;
+}
+
+// A normal already turned to the viewer's side made usable (chiaro_reference's
+// facing_normal): the geometric normal where it faces away from `view`, then turned so that
+// the mirror reflection of `view` leaves the surface (valid_reflection_normal).
+fn facing_normal(geometric: vec3<f32>, view: vec3<f32>, normal: vec3<f32>) -> vec3<f32> {
+    let n = select(normal, geometric, dot(normal, view) <= 0.0);
+    return valid_reflection_normal(geometric, view, n);
 }
 
 // chiaro_shading::shading_normal::valid_reflection_normal: `shading` turned towards `geometric`

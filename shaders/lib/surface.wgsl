@@ -104,13 +104,80 @@ fn gbuffer_shading(g: GbufferSurface, triangle: u32, camera: GpuCamera) -> Shadi
         material.specular, material.specular_color, material.clearcoat,
         material.clearcoat_roughness, material.transmission, material.sheen_color,
         material.sheen_roughness, material.absorption,
-        volume_eta(material, !g.back_face));
-    if FEATURE_LAYER_TEXTURES {
+        volume_eta(material, !g.back_face), vec3<f32>(0.0, 0.0, 1.0));
+    let mesh_flags = scene_meshes[record.mesh].flags;
+    // The coat's normal differs from the shading normal only where a normal map bends one.
+    let coat_normal = FEATURE_CLEARCOAT && FEATURE_NORMAL_MAPS && material.clearcoat > 0.0
+        && (mesh_flags & MESH_HAS_TANGENTS) != 0u
+        && (material.normal_texture.texture != NO_INDEX
+            || material.clearcoat_normal_texture.texture != NO_INDEX);
+    if FEATURE_LAYER_TEXTURES || coat_normal {
         let t = world_triangle(g.instance, triangle);
-        let uvs = scene_uvs(t.indices, world_triangle_barycentrics(t, g.position));
-        s.params = layer_textured(s.params, material, uvs, scene_meshes[record.mesh].flags);
+        let b = world_triangle_barycentrics(t, g.position);
+        let uvs = scene_uvs(t.indices, b);
+        s.params = layer_textured(s.params, material, uvs, mesh_flags);
+        if coat_normal {
+            let n = interpolated_normals(g.instance, t, b);
+            let geometric_front = safe_normalize(cross(t.v1 - t.v0, t.v2 - t.v0),
+                vec3<f32>(0.0, 0.0, 1.0));
+            let shading_front = mapped_shading_normal(material, mesh_flags, uvs, n.normal,
+                n.tangent, t.mirrored, geometric_front);
+            s.params.coat_normal = coat_normal_in_frame(material, mesh_flags, uvs, n, t.mirrored,
+                geometric_front, shading_front, s.geometric_normal, -to_eye, s.frame);
+        }
     }
     return s;
+}
+
+// A triangle's world normal (any length) and tangent (the bitangent's sign in w) interpolated
+// at mesh-order barycentrics.
+struct InterpolatedNormals {
+    normal: vec3<f32>,
+    tangent: vec4<f32>,
+}
+
+fn interpolated_normals(instance: u32, t: WorldTriangle, b: vec2<f32>) -> InterpolatedNormals {
+    let record = bvh_load_instance_whole(instance);
+    let w = vec3<f32>(1.0 - b.x - b.y, b.x, b.y);
+    let v0 = scene_vertex(t.indices.x);
+    let v1 = scene_vertex(t.indices.y);
+    let v2 = scene_vertex(t.indices.z);
+    let normal = v0.normal * w.x + v1.normal * w.y + v2.normal * w.z;
+    let tangent = v0.tangent * w.x + v1.tangent * w.y + v2.tangent * w.z;
+    // The inverse transpose applied to the normal: the rows of world-to-object as columns.
+    let n2o = record.world_to_object;
+    var n: InterpolatedNormals;
+    n.normal = n2o[0].xyz * normal.x + n2o[1].xyz * normal.y + n2o[2].xyz * normal.z;
+    n.tangent = vec4<f32>(bvh_transform_vector(record.object_to_world, tangent.xyz), tangent.w);
+    return n;
+}
+
+// KHR_materials_clearcoat's coat normal in `frame` (chiaro_reference's surface_at): the
+// interpolated normal bent by the coat's own normal map, turned like the shading normal for a
+// view travelling along `incoming` (`geometric`: the geometric normal on the viewer's side);
+// +z where it is `shading_front` itself (no map bends either) or without a coat.
+fn coat_normal_in_frame(
+    material: GpuMaterial,
+    mesh_flags: u32,
+    uvs: vec4<f32>,
+    n: InterpolatedNormals,
+    mirrored: bool,
+    geometric_front: vec3<f32>,
+    shading_front: vec3<f32>,
+    geometric: vec3<f32>,
+    incoming: vec3<f32>,
+    frame: Frame,
+) -> vec3<f32> {
+    if !FEATURE_CLEARCOAT || material.clearcoat <= 0.0 {
+        return vec3<f32>(0.0, 0.0, 1.0);
+    }
+    let coat_front = mapped_coat_normal(material, mesh_flags, uvs, n.normal, n.tangent, mirrored,
+        geometric_front);
+    if all(coat_front == shading_front) {
+        return vec3<f32>(0.0, 0.0, 1.0);
+    }
+    let side = select(-1.0, 1.0, dot(incoming, geometric_front) < 0.0);
+    return frame_to_local(frame, facing_normal(geometric, normalize(-incoming), coat_front * side));
 }
 
 // KHR_materials_volume's relative IOR across a surface of `material` seen from its front
@@ -160,17 +227,11 @@ fn surface_at_hit(direction: vec3<f32>, hit: Hit) -> SurfaceHit {
     let v0 = scene_vertex(t.indices.x);
     let v1 = scene_vertex(t.indices.y);
     let v2 = scene_vertex(t.indices.z);
-    let normal = v0.normal * w.x + v1.normal * w.y + v2.normal * w.z;
-    let tangent = v0.tangent * w.x + v1.tangent * w.y + v2.tangent * w.z;
-    // The inverse transpose applied to the normal: the rows of world-to-object as columns.
-    let n2o = record.world_to_object;
-    let world_normal = n2o[0].xyz * normal.x + n2o[1].xyz * normal.y + n2o[2].xyz * normal.z;
-    let world_tangent = vec4<f32>(bvh_transform_vector(record.object_to_world, tangent.xyz),
-        tangent.w);
+    let n = interpolated_normals(hit.instance, t, b);
     let uvs = scene_uvs(t.indices, b);
     let geometric_front = safe_normalize(cross(t.v1 - t.v0, t.v2 - t.v0), vec3<f32>(0.0, 0.0, 1.0));
-    let shading_front = mapped_shading_normal(material, mesh_flags, uvs, world_normal,
-        world_tangent, t.mirrored, geometric_front);
+    let shading_front = mapped_shading_normal(material, mesh_flags, uvs, n.normal, n.tangent,
+        t.mirrored, geometric_front);
     let normals = orient_normals(geometric_front, shading_front, direction,
         (material.flags & MATERIAL_DOUBLE_SIDED) != 0u);
     let base = material_base_color(material, mesh_flags, uvs, vertex_color_of(v0, v1, v2, w));
@@ -188,8 +249,10 @@ fn surface_at_hit(direction: vec3<f32>, hit: Hit) -> SurfaceHit {
         material.specular, material.specular_color, material.clearcoat,
         material.clearcoat_roughness, material.transmission, material.sheen_color,
         material.sheen_roughness, material.absorption,
-        volume_eta(material, dot(direction, geometric_front) < 0.0));
+        volume_eta(material, dot(direction, geometric_front) < 0.0), vec3<f32>(0.0, 0.0, 1.0));
     s.params = layer_textured(s.params, material, uvs, mesh_flags);
+    s.params.coat_normal = coat_normal_in_frame(material, mesh_flags, uvs, n, t.mirrored,
+        geometric_front, shading_front, normals.geometric, direction, s.frame);
     return SurfaceHit(s, normals.shades);
 }
 

@@ -98,7 +98,7 @@ fn scene_records_match_their_wgsl_structs() {
             sheen_roughness,
             transmission,
             ior,
-            pad0,
+            clearcoat_normal_scale,
             pad1,
             attenuation,
             pad2,
@@ -112,7 +112,8 @@ fn scene_records_match_their_wgsl_structs() {
             clearcoat_roughness_texture,
             transmission_texture,
             sheen_color_texture,
-            sheen_roughness_texture
+            sheen_roughness_texture,
+            clearcoat_normal_texture
         ]
     );
     check!(

@@ -136,7 +136,7 @@ pub fn material(m: &Material) -> GpuMaterial {
         sheen_roughness: m.sheen_roughness,
         transmission: m.transmission,
         ior: m.ior,
-        pad0: 0,
+        clearcoat_normal_scale: m.clearcoat_normal_scale,
         pad1: 0,
         attenuation: m
             .volume
@@ -154,6 +154,7 @@ pub fn material(m: &Material) -> GpuMaterial {
         transmission_texture: slot(&m.layer_textures.transmission),
         sheen_color_texture: slot(&m.layer_textures.sheen_color),
         sheen_roughness_texture: slot(&m.layer_textures.sheen_roughness),
+        clearcoat_normal_texture: slot(&m.clearcoat_normal_texture),
     }
 }
 

@@ -197,8 +197,8 @@ pub struct GpuMaterial {
     pub transmission: f32,
     /// The index of refraction (KHR_materials_ior): a volume's surface refracts by it.
     pub ior: f32,
-    /// Padding, zero.
-    pub pad0: u32,
+    /// The clear coat normal map's scale.
+    pub clearcoat_normal_scale: f32,
     /// Padding, zero.
     pub pad1: u32,
     /// KHR_materials_volume's attenuation coefficient per unit distance (zero: clear, or no
@@ -228,6 +228,8 @@ pub struct GpuMaterial {
     pub sheen_color_texture: GpuTextureSlot,
     /// KHR_materials_sheen's roughness texture (A).
     pub sheen_roughness_texture: GpuTextureSlot,
+    /// KHR_materials_clearcoat's normal map.
+    pub clearcoat_normal_texture: GpuTextureSlot,
 }
 
 /// Where a texture's texels lie in the texel atlas buffer.
@@ -379,7 +381,7 @@ mod tests {
     #[test]
     fn sizes_are_multiples_of_their_alignment() {
         assert_eq!(size_of::<GpuVertex>(), 64);
-        assert_eq!(size_of::<GpuMaterial>(), 656);
+        assert_eq!(size_of::<GpuMaterial>(), 704);
         assert_eq!(size_of::<GpuLight>(), 64);
         assert_eq!(size_of::<GpuInstanceExtra>(), 64);
         assert_eq!(size_of::<GpuSceneInfo>(), 64);

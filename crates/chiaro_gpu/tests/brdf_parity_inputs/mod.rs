@@ -30,6 +30,8 @@ pub struct BrdfInput {
     pub sheen_roughness: f32,
     pub sheen_color: [f32; 3],
     pub eta: f32,
+    pub coat_normal: [f32; 3],
+    pub pad: u32,
 }
 
 /// A unit direction with cosine `mu` to the normal and azimuth `phi`.
@@ -107,11 +109,31 @@ fn random_params(rng: &mut Pcg32) -> SurfaceParams {
         sheen_roughness,
         absorption,
         eta,
+        coat_normal: Vec3::Z,
     }
 }
 
-pub fn random_input(rng: &mut Pcg32) -> BrdfInput {
-    let p = random_params(rng);
+/// A coat normal: a quarter of the coats have one of their own, tilted up to 80 degrees, or a
+/// zero vector (which counts as the shading normal). Drawn from a generator of its own, so
+/// that the other fields' stream is the same with and without it.
+fn random_coat_normal(rng: &mut Pcg32) -> Vec3 {
+    match rng.next_u32() % 8 {
+        0 => Vec3::ZERO,
+        1 => {
+            let d = uniform_sphere(rng.next_vec2());
+            Vec3::new(d.x, d.y, d.z.abs().max(0.18))
+        }
+        _ => Vec3::Z,
+    }
+}
+
+/// One input: the material, directions and sampling numbers from `rng`, the coat normal from
+/// `coat_rng`.
+pub fn random_input(rng: &mut Pcg32, coat_rng: &mut Pcg32) -> BrdfInput {
+    let p = SurfaceParams {
+        coat_normal: random_coat_normal(coat_rng),
+        ..random_params(rng)
+    };
     let wo = random_direction(rng);
     let wi = match rng.next_u32() % 6 {
         // The exact mirror reflection of the view, and a slight tilt of it.
@@ -147,6 +169,8 @@ pub fn random_input(rng: &mut Pcg32) -> BrdfInput {
         sheen_roughness: p.sheen_roughness,
         sheen_color: p.sheen_color.to_array(),
         eta: p.eta,
+        coat_normal: p.coat_normal.to_array(),
+        pad: 0,
     }
 }
 
@@ -165,5 +189,6 @@ pub fn params(x: &BrdfInput) -> SurfaceParams {
         sheen_roughness: x.sheen_roughness,
         absorption: x.absorption,
         eta: x.eta,
+        coat_normal: Vec3::from_array(x.coat_normal),
     }
 }
