@@ -478,11 +478,16 @@ fn material_extension_factors_are_read_and_bad_ones_repaired() {
 }
 
 /// The material extensions' textures are read, each in its colour space (the colour textures
-/// sRGB, the rest linear), with its UV set and KHR_texture_transform; one that names no texture
-/// of the file and the clear coat's normal texture get repair lines.
+/// sRGB, the rest linear), with its UV set and KHR_texture_transform; the clear coat's normal
+/// texture with its scale, the mesh given tangents for its UV set though the base has no normal
+/// map; one that names no texture of the file gets a repair line.
 #[test]
 fn material_extension_textures_are_read_in_their_colour_spaces() {
     let mut json = scene_json();
+    json["materials"][0]
+        .as_object_mut()
+        .unwrap()
+        .remove("normalTexture");
     let ext = &mut json["materials"][0]["extensions"];
     ext["KHR_materials_specular"] = json!({
         "specularTexture": {"index": 1},
@@ -493,7 +498,7 @@ fn material_extension_textures_are_read_in_their_colour_spaces() {
         "clearcoatTexture": {"index": 1},
         "clearcoatRoughnessTexture": {"index": 1, "extensions": {"KHR_texture_transform":
             {"offset": [0.25, 0.0]}}},
-        "clearcoatNormalTexture": {"index": 1}
+        "clearcoatNormalTexture": {"index": 1, "scale": 0.5}
     });
     ext["KHR_materials_sheen"] = json!({
         "sheenColorFactor": [1.0, 1.0, 1.0],
@@ -516,11 +521,12 @@ fn material_extension_textures_are_read_in_their_colour_spaces() {
     let spawned = load_scene(&mut world, path.to_str().unwrap()).unwrap();
     let materials = world.resource::<chiaro_scene::Materials>();
     let textures = world.resource::<chiaro_scene::Textures>();
-    let layers = materials
+    let material = materials
         .iter()
         .find(|(_, m)| m.name == "textured")
-        .map(|(_, m)| m.layer_textures)
+        .map(|(_, m)| m.clone())
         .unwrap();
+    let layers = material.layer_textures;
     let space = |slot: Option<chiaro_scene::TextureRef>| {
         let slot = slot.expect("a texture");
         textures.get(slot.texture).unwrap().color_space
@@ -538,17 +544,20 @@ fn material_extension_textures_are_read_in_their_colour_spaces() {
         layers.clearcoat_roughness.unwrap().transform.translation,
         glam::Vec2::new(0.25, 0.0)
     );
+    assert_eq!(space(material.clearcoat_normal_texture), Linear);
+    assert_eq!(material.clearcoat_normal_scale, 0.5);
+    assert_eq!(material.normal_texture, None);
+    let meshes = world.resource::<chiaro_scene::Meshes>();
+    assert!(
+        meshes.iter().any(|(_, m)| m.tangents().is_some()),
+        "the coat's normal map needs the textured quad's tangents"
+    );
     let actions: Vec<&str> = spawned.repairs.iter().map(|r| r.action.as_str()).collect();
-    for expected in [
-        "sheenRoughnessTexture {\"index\":7} names no texture of the file: its factor alone is used",
-        "KHR_materials_clearcoat's clearcoatNormalTexture is not read: the coat shares the \
-         material's shading normal",
-    ] {
-        assert!(
-            actions.contains(&expected),
-            "{expected:?} not in {actions:?}"
-        );
-    }
+    let expected = "sheenRoughnessTexture {\"index\":7} names no texture of the file: its factor alone is used";
+    assert!(
+        actions.contains(&expected),
+        "{expected:?} not in {actions:?}"
+    );
     let about_textures = actions.iter().filter(|a| a.contains("Texture")).count();
-    assert_eq!(about_textures, 2, "{actions:?}");
+    assert_eq!(about_textures, 1, "{actions:?}");
 }

@@ -158,6 +158,51 @@ pub fn emitter_coverage(
         .clamp(0.0, 1.0)
 }
 
+/// Tangent-space normal mapping at one point: glTF 2.0's normal textures (the base's and
+/// KHR_materials_clearcoat's) in the frame of the interpolated normal and tangent.
+struct NormalMap<'a> {
+    scene: &'a RenderScene<'a>,
+    uvs: [Option<Vec2>; 2],
+    /// The unit interpolated normal, front side, world space.
+    interpolated: Vec3,
+    /// The world tangent and the bitangent's sign (the mirroring transform's included), when
+    /// the mesh has tangents.
+    tangent: Option<(Vec3, f32)>,
+}
+
+impl NormalMap<'_> {
+    /// The interpolated normal bent by the texture in `slot` with XY scaled by `scale`; the
+    /// interpolated normal itself without a texture, a texel or tangents.
+    fn apply(&self, slot: &Option<chiaro_scene::TextureRef>, scale: f32) -> Vec3 {
+        let n = self.interpolated;
+        let (Some(slot), Some((tangent, sign))) = (slot, self.tangent) else {
+            return n;
+        };
+        let Some(texel) = sample_slot(self.scene.textures, slot, self.uvs) else {
+            return n;
+        };
+        let tangent = (tangent - n * n.dot(tangent)).normalize_or_zero();
+        if tangent == Vec3::ZERO {
+            return n;
+        }
+        let bitangent = n.cross(tangent) * sign;
+        let m = (texel.truncate() * 2.0 - Vec3::ONE) * Vec3::new(scale, scale, 1.0);
+        (tangent * m.x + bitangent * m.y + n * m.z).normalize_or(n)
+    }
+}
+
+/// A shading normal (already turned to the viewer's side of the surface) made usable: the
+/// geometric normal where it faces away from `view`, then turned so that the mirror
+/// reflection of `view` leaves the surface ([`valid_reflection_normal`]).
+fn facing_normal(geometric: Vec3, view: Vec3, normal: Vec3) -> Vec3 {
+    let normal = if normal.dot(view) <= 0.0 {
+        geometric
+    } else {
+        normal
+    };
+    valid_reflection_normal(geometric, view, normal)
+}
+
 /// Evaluates the surface at `hit` of `ray`.
 pub fn surface_at(scene: &RenderScene, ray: &Ray, hit: &Hit) -> SurfaceHit {
     let record = &scene.bvh.instances()[hit.instance as usize];
@@ -182,9 +227,8 @@ pub fn surface_at(scene: &RenderScene, ray: &Ray, hit: &Hit) -> SurfaceHit {
     let v = world_triangle(mesh, hit.triangle, &record.world);
     let geometric_front = (v[1] - v[0]).cross(v[2] - v[0]).normalize_or(Vec3::Z);
     let front_facing = ray.direction.dot(geometric_front) < 0.0;
-    let mirror_sign = record.world.matrix3.determinant().signum();
     let normal_matrix = record.inverse.matrix3.transpose();
-    let mut shading_front =
+    let interpolated_front =
         (normal_matrix * interpolate(mesh.normals(), idx, b)).normalize_or(geometric_front);
 
     let uvs = uvs_at(mesh, hit.triangle, b);
@@ -193,28 +237,35 @@ pub fn surface_at(scene: &RenderScene, ray: &Ray, hit: &Hit) -> SurfaceHit {
             .and_then(|s| sample_slot(scene.textures, s, uvs))
             .unwrap_or(Vec4::ONE)
     };
-    if let (Some(slot), Some(tangents)) = (&material.normal_texture, mesh.tangents())
-        && let Some(texel) = sample_slot(scene.textures, slot, uvs)
-    {
+    let tangent = mesh.tangents().map(|tangents| {
         let t = interpolate(tangents, idx, b);
-        let tangent = record.world.matrix3 * t.truncate();
-        let tangent = (tangent - shading_front * shading_front.dot(tangent)).normalize_or_zero();
-        if tangent != Vec3::ZERO {
-            let bitangent = shading_front.cross(tangent) * t.w.signum() * mirror_sign;
-            let m = (texel.truncate() * 2.0 - Vec3::ONE)
-                * Vec3::new(material.normal_scale, material.normal_scale, 1.0);
-            shading_front =
-                (tangent * m.x + bitangent * m.y + shading_front * m.z).normalize_or(shading_front);
-        }
-    }
+        let sign = t.w.signum() * record.world.matrix3.determinant().signum();
+        (record.world.matrix3 * t.truncate(), sign)
+    });
+    let normal_map = NormalMap {
+        scene,
+        uvs,
+        interpolated: interpolated_front,
+        tangent,
+    };
+    let shading_front = normal_map.apply(&material.normal_texture, material.normal_scale);
 
     let side = if front_facing { 1.0 } else { -1.0 };
     let geometric_normal = geometric_front * side;
-    let mut shading_normal = shading_front * side;
-    if shading_normal.dot(-ray.direction) <= 0.0 {
-        shading_normal = geometric_normal;
-    }
-    let shading_normal = valid_reflection_normal(geometric_normal, -ray.direction, shading_normal);
+    let view = -ray.direction;
+    let shading_normal = facing_normal(geometric_normal, view, shading_front * side);
+    let frame = Frame::from_normal(shading_normal);
+    // KHR_materials_clearcoat: the coat takes its own normal map, or the interpolated normal
+    // (the base's normal map does not reach it).
+    let coat_front = normal_map.apply(
+        &material.clearcoat_normal_texture,
+        material.clearcoat_normal_scale,
+    );
+    let coat_normal = if material.clearcoat <= 0.0 || coat_front == shading_front {
+        Vec3::Z
+    } else {
+        frame.to_local(facing_normal(geometric_normal, view, coat_front * side))
+    };
     let shades = front_facing || material.shades_both_sides();
 
     let base = base_color_at(scene, material, mesh, hit.triangle, b, uvs);
@@ -239,6 +290,7 @@ pub fn surface_at(scene: &RenderScene, ray: &Ray, hit: &Hit) -> SurfaceHit {
             Some(_) => 1.0 / material.ior,
             None => 0.0,
         },
+        coat_normal,
     };
     let interior = material
         .volume
@@ -256,7 +308,7 @@ pub fn surface_at(scene: &RenderScene, ray: &Ray, hit: &Hit) -> SurfaceHit {
     SurfaceHit {
         position,
         geometric_normal,
-        frame: Frame::from_normal(shading_normal),
+        frame,
         shades,
         params,
         emission,
@@ -264,3 +316,6 @@ pub fn surface_at(scene: &RenderScene, ray: &Ray, hit: &Hit) -> SurfaceHit {
         far_medium,
     }
 }
+
+#[cfg(test)]
+mod coat_normal_tests;

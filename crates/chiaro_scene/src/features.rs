@@ -123,7 +123,7 @@ impl SceneFeatures {
     fn add_material(&mut self, m: &Material) {
         self.base_color_textures |= m.base_color_texture.is_some();
         self.metallic_roughness_textures |= m.metallic_roughness_texture.is_some();
-        self.normal_maps |= m.normal_texture.is_some();
+        self.normal_maps |= m.normal_texture.is_some() || m.clearcoat_normal_texture.is_some();
         self.emissive_textures |= m.emissive_texture.is_some() && m.is_emissive();
         self.layer_textures |= m.layer_textures.any();
         self.second_uv_set |= m.texture_slots().any(|(_, t)| t.uv_set == 1);

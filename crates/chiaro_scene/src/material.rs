@@ -116,6 +116,12 @@ pub struct Material {
     pub clearcoat: f32,
     /// KHR_materials_clearcoat's clearcoatRoughnessFactor in [0, 1] (0 when absent).
     pub clearcoat_roughness: f32,
+    /// KHR_materials_clearcoat's clearcoatNormalTexture: the coat's own tangent-space normal
+    /// map (linear). Without it the coat takes the interpolated normal: the base's normal map
+    /// does not reach the coat.
+    pub clearcoat_normal_texture: Option<TextureRef>,
+    /// Scale of the coat normal map's XY.
+    pub clearcoat_normal_scale: f32,
     /// KHR_materials_transmission's transmissionFactor in [0, 1] (0 when absent): the share of
     /// the dielectric's diffuse base transmitted through the surface, which is thin-walled.
     /// A transmissive surface shades both faces ([`Material::shades_both_sides`]).
@@ -237,6 +243,8 @@ impl Default for Material {
             specular_color: Vec3::ONE,
             clearcoat: 0.0,
             clearcoat_roughness: 0.0,
+            clearcoat_normal_texture: None,
+            clearcoat_normal_scale: 1.0,
             transmission: 0.0,
             volume: None,
             sheen_color: Vec3::ZERO,
@@ -310,10 +318,38 @@ impl Material {
             ("metallic-roughness", &self.metallic_roughness_texture),
             ("normal", &self.normal_texture),
             ("emissive", &self.emissive_texture),
+            ("clear coat normal", &self.clearcoat_normal_texture),
         ]
         .into_iter()
         .chain(self.layer_textures.slots())
         .filter_map(|(name, slot)| slot.as_ref().map(|t| (name, t)))
+    }
+
+    /// Every texture slot, empty ones included, to rewrite in place.
+    pub fn texture_slots_mut(&mut self) -> [&mut Option<TextureRef>; 12] {
+        let l = &mut self.layer_textures;
+        [
+            &mut self.base_color_texture,
+            &mut self.metallic_roughness_texture,
+            &mut self.normal_texture,
+            &mut self.emissive_texture,
+            &mut self.clearcoat_normal_texture,
+            &mut l.specular,
+            &mut l.specular_color,
+            &mut l.clearcoat,
+            &mut l.clearcoat_roughness,
+            &mut l.transmission,
+            &mut l.sheen_color,
+            &mut l.sheen_roughness,
+        ]
+    }
+
+    /// The UV set a tangent-space normal map reads (the base's, else the coat's): the one the
+    /// mesh's tangents follow.
+    pub fn tangent_uv_set(&self) -> Option<u32> {
+        self.normal_texture
+            .or(self.clearcoat_normal_texture)
+            .map(|t| t.uv_set)
     }
 }
 

@@ -293,10 +293,9 @@ impl SceneBuilder {
         {
             let mut materials = world.resource_mut::<Materials>();
             for mut m in self.materials {
-                remap(&mut m.base_color_texture);
-                remap(&mut m.metallic_roughness_texture);
-                remap(&mut m.normal_texture);
-                remap(&mut m.emissive_texture);
+                for slot in m.texture_slots_mut() {
+                    remap(slot);
+                }
                 materials.add(m);
             }
         }
@@ -387,3 +386,6 @@ impl SceneBuilder {
         }
     }
 }
+
+#[cfg(test)]
+mod spawn_tests;

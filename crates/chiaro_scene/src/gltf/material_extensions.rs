@@ -2,9 +2,8 @@
 //! KHR_materials_clearcoat, KHR_materials_sheen, KHR_materials_transmission and
 //! KHR_materials_volume. Each factor is checked against its range; a value outside it is
 //! repaired with a line that says so, never trusted. Their textures multiply the factors
-//! ([`crate::material::LayerTextures`]), except the clear coat's normal texture: the coat
-//! shares the material's shading normal, and a file that names one gets a repair line saying
-//! so.
+//! ([`crate::material::LayerTextures`]); the clear coat's normal texture is the coat's own
+//! normal map ([`Material::clearcoat_normal_texture`]).
 
 use glam::Vec3;
 use serde_json::Value;
@@ -49,7 +48,8 @@ impl MaterialImporter<'_> {
     }
 
     /// KHR_materials_clearcoat: `clearcoatFactor` and `clearcoatRoughnessFactor`, each in
-    /// [0, 1] (default 0). The coat shares the material's shading normal.
+    /// [0, 1] (default 0), their textures, and `clearcoatNormalTexture` with its `scale`
+    /// (a number, default 1).
     pub(super) fn read_clearcoat(&mut self, element: &str, m: &gltf::Material, out: &mut Material) {
         let Some(ext) = m.extension_value("KHR_materials_clearcoat") else {
             return;
@@ -79,13 +79,24 @@ impl MaterialImporter<'_> {
             "clear coat roughness",
             ColorSpace::Linear,
         );
-        if ext.get("clearcoatNormalTexture").is_some() {
-            self.repair(
-                element.into(),
-                "KHR_materials_clearcoat's clearcoatNormalTexture is not read: the coat shares \
-                 the material's shading normal"
-                    .into(),
-            );
+        out.clearcoat_normal_texture = self.layer_texture(
+            element,
+            ext,
+            "clearcoatNormalTexture",
+            "clear coat normal",
+            ColorSpace::Linear,
+        );
+        if let Some(scale) = ext
+            .get("clearcoatNormalTexture")
+            .and_then(|t| t.get("scale"))
+        {
+            match scale.as_f64() {
+                Some(s) if (s as f32).is_finite() => out.clearcoat_normal_scale = s as f32,
+                _ => self.repair(
+                    element.into(),
+                    format!("clear coat normal scale {scale} is not a number: 1 used"),
+                ),
+            }
         }
     }
 

@@ -243,6 +243,13 @@ impl<'a> MaterialImporter<'a> {
             fixes.push(format!("normal scale {} replaced by 1", m.normal_scale));
             m.normal_scale = 1.0;
         }
+        if !m.clearcoat_normal_scale.is_finite() {
+            fixes.push(format!(
+                "clear coat normal scale {} replaced by 1",
+                m.clearcoat_normal_scale
+            ));
+            m.clearcoat_normal_scale = 1.0;
+        }
         if !m.ior.is_finite() || (m.ior < 1.0 && m.ior != 0.0) {
             fixes.push(format!("IOR {} replaced by 1.5", m.ior));
             m.ior = 1.5;

@@ -133,8 +133,8 @@ impl NodeImporter<'_> {
         let tangent_uv_set = self
             .materials
             .get(material.0 as usize)
-            .and_then(|m| m.normal_texture)
-            .map(|t| t.uv_set as usize);
+            .and_then(Material::tangent_uv_set)
+            .map(|set| set as usize);
         let mut data = match convert_primitive(&self.reader, primitive, tangent_uv_set) {
             Ok(Converted::Triangles(data)) => data,
             Ok(Converted::Skipped(why)) => {
