@@ -1,7 +1,7 @@
 """The hand-made glTF test scenes (plain JSON with an embedded buffer; no Blender needed):
 quads under the constant environment, a point light over a floor, vertex colours, alpha BLEND and
 the material extensions clearcoat, specular, transmission and volume, and those extensions'
-textures."""
+textures, the normal textures (the base's and the coat's) included."""
 
 import base64
 import json
@@ -320,6 +320,39 @@ def make_test_scenes(folder):
     with_ext(b, "KHR_materials_clearcoat")
     b.node(mesh=b.quad(2.0, m), name="quad", rotation=rot_x(-60.0))
     p = os.path.join(folder, "k_clearcoat_textured.gltf")
+    b.write(p)
+    paths.append(p)
+
+    # (k) Normal textures tilting the normal 20 degrees along V (up and down the image: toward
+    # and away from the view on a quad at 60 degrees) in vertical stripes two texels wide: the
+    # base's normalTexture on a glossy red dielectric, and the coat's own clearcoatNormalTexture
+    # over (g)'s coat (roughness factor 0.2) with the base keeping the quad's normal. A renderer
+    # that reads the green channel upside down swaps the stripes.
+    tilted = np.full((8, 8, 4), 255, np.uint8)
+    tilted[:, :, 0] = 128
+    tilted[:, :, 2] = round((math.cos(math.radians(20.0)) + 1.0) * 127.5)
+    for x in range(8):
+        sign = 1.0 if (x // 2) % 2 else -1.0
+        tilted[:, x, 1] = round((sign * math.sin(math.radians(20.0)) + 1.0) * 127.5)
+    b = GltfBuilder()
+    t = b.texture(tilted)
+    m = b.material(name="red_r0.3_normal_textured", normalTexture={"index": t},
+                   **pbr([0.8, 0.1, 0.1], 0.0, 0.3))
+    b.node(mesh=b.quad(2.0, m), name="quad", rotation=rot_x(-60.0))
+    p = os.path.join(folder, "k_normal_textured.gltf")
+    b.write(p)
+    paths.append(p)
+
+    b = GltfBuilder()
+    t = b.texture(tilted)
+    m = b.material(name="red_r0.6_clearcoat_normal_textured", **pbr(
+        [0.8, 0.1, 0.1], 0.0, 0.6,
+        extensions={"KHR_materials_clearcoat": {
+            "clearcoatFactor": 1.0, "clearcoatRoughnessFactor": 0.2,
+            "clearcoatNormalTexture": {"index": t}}}))
+    with_ext(b, "KHR_materials_clearcoat")
+    b.node(mesh=b.quad(2.0, m), name="quad", rotation=rot_x(-60.0))
+    p = os.path.join(folder, "k_clearcoat_normal_textured.gltf")
     b.write(p)
     paths.append(p)
 
