@@ -32,22 +32,6 @@ fn mapped_shading_normal(
         interpolated, tangent, mirrored, geometric_front);
 }
 
-// KHR_materials_clearcoat's unit front-side coat normal: `interpolated` bent by the coat's
-// own normal texture (the base's normal map does not reach the coat); the arguments as
-// mapped_shading_normal's.
-fn mapped_coat_normal(
-    material: GpuMaterial,
-    mesh_flags: u32,
-    uvs: vec4<f32>,
-    interpolated: vec3<f32>,
-    tangent: vec4<f32>,
-    mirrored: bool,
-    geometric_front: vec3<f32>,
-) -> vec3<f32> {
-    return normal_mapped(material.clearcoat_normal_texture, material.clearcoat_normal_scale,
-        mesh_flags, uvs, interpolated, tangent, mirrored, geometric_front);
-}
-
 // `interpolated` (unit where it can be; `geometric_front` where it degenerates) bent by the
 // tangent-space normal texture `slot` with XY scaled by `scale`, when the mesh has tangents.
 fn normal_mapped(

@@ -171,7 +171,9 @@ fn coat_normal_in_frame(
     if !FEATURE_CLEARCOAT || material.clearcoat <= 0.0 {
         return vec3<f32>(0.0, 0.0, 1.0);
     }
-    let coat_front = mapped_coat_normal(material, mesh_flags, uvs, n.normal, n.tangent, mirrored,
+    // The coat's own normal texture; the base's normal map does not reach the coat.
+    let coat_front = normal_mapped(material.clearcoat_normal_texture,
+        material.clearcoat_normal_scale, mesh_flags, uvs, n.normal, n.tangent, mirrored,
         geometric_front);
     if all(coat_front == shading_front) {
         return vec3<f32>(0.0, 0.0, 1.0);

@@ -7,7 +7,7 @@ use chiaro_scene::builtin::{CASES_ALONE, hard_case_scene};
 use chiaro_scene::{ActiveCamera, Camera, load_scene};
 use glam::Vec3;
 
-use crate::common::masked_rel_mse;
+use crate::common::{masked_rel_mse, rel_mse};
 
 /// Makes the camera of `case` the active one.
 #[allow(dead_code)]
@@ -97,6 +97,30 @@ pub fn cpu_reference(
         path,
     };
     chiaro_reference::render_world(world, &settings, false).unwrap()
+}
+
+/// The CPU reference of `world` (`cpu_reference`, default path settings) once `without` (the
+/// same view lacking `feature`) is found more than 100 times the reference's own noise away
+/// from it: a renderer that ignored the feature would then fail a comparison with it.
+#[allow(dead_code)]
+pub fn cpu_reference_unlike(
+    world: &mut World,
+    without: &mut World,
+    feature: &str,
+    size: u32,
+    spp: u32,
+) -> chiaro_reference::RenderOutput {
+    let path = chiaro_reference::PathSettings::default();
+    let cpu = cpu_reference(world, size, spp, path);
+    let plain = cpu_reference(without, size, spp, path);
+    let noise = rel_mse(&cpu.halves[0], &cpu.halves[1]) / 4.0;
+    let distance = rel_mse(&plain.image, &cpu.image);
+    eprintln!("CPU: own noise {noise:.3e}; without {feature} {distance:.3e} away");
+    assert!(
+        distance > 100.0 * noise,
+        "{feature} barely changes the image: {distance} against noise {noise}"
+    );
+    cpu
 }
 
 /// The GPU against `cpu` (a CPU reference of the same view, `size` x `size`) over the pixels
