@@ -120,6 +120,8 @@ def main():
                     help="chiaro's samples (default 2 x --spp, the compared Cycles image's count)")
     ap.add_argument("--seeds", default="0,1", help="Cycles' two seeds (default 0,1)")
     ap.add_argument("--chiaro-seed", type=int, default=0)
+    ap.add_argument("--chiaro-sampler", default="sobol", choices=["sobol", "independent"],
+                    help="chiaro's sampler (default sobol)")
     ap.add_argument("--env", default="0.5,0.5,0.5",
                     help="constant environment, linear R,G,B or one value (default 0.5)")
     ap.add_argument("--env-hdr", nargs="?", const=DEFAULT_HDR, default=None,

@@ -14,7 +14,8 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use chiaro::gpu::{FrameSettings, RenderMode};
 use chiaro::reference::{
-    Integrator, LightSampling, PathSettings, RenderSettings, render_world, write_exr, write_png,
+    Integrator, LightSampling, PathSettings, RenderSettings, Sampler, render_world, write_exr,
+    write_png,
 };
 use chiaro::scene::{Environment, LoadOptions, SceneInfo, load_scene_with};
 use chiaro::shading::tonemap::{Tonemapper, exposure_from_ev};
@@ -176,6 +177,11 @@ enum Command {
         /// pixel).
         #[arg(long, default_value = "pt")]
         integrator: Integrator,
+        /// Where the samples' numbers come from: sobol (Owen-scrambled Sobol points, each
+        /// draw of a path stratified over the pixel's samples: randomised quasi-Monte Carlo) or
+        /// independent (independent random numbers: plain Monte Carlo). mlt mutates its own.
+        #[arg(long, default_value = "sobol")]
+        sampler: Sampler,
         #[command(flatten)]
         memory: MemoryArgs,
     },
@@ -426,6 +432,7 @@ fn main() -> Result<()> {
             max_depth,
             light_sampling,
             integrator,
+            sampler,
             memory,
         } => {
             let path = PathSettings {
@@ -440,6 +447,7 @@ fn main() -> Result<()> {
                 height: size.1,
                 spp,
                 seed,
+                sampler,
                 threads: threads.map(|t| t as usize),
                 path,
             };

@@ -103,6 +103,7 @@ fn cpu(world: &mut World, size: u32, spp: u32, threads: Option<usize>) -> Vec<Ve
             height: size,
             spp,
             seed: 7,
+            sampler: chiaro_reference::Sampler::default(),
             threads,
             path: PathSettings::default(),
         },

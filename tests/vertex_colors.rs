@@ -270,6 +270,7 @@ fn vertex_coloured_scene_matches_the_reference_on_the_gpu() {
             height: 32,
             spp: 64,
             seed: 7,
+            sampler: chiaro_reference::Sampler::default(),
             threads: None,
             path: chiaro::reference::PathSettings::default(),
         },

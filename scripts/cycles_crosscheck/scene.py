@@ -110,7 +110,8 @@ def process_scene(args, scene_path):
 
     # chiaro.
     out = os.path.join(d, "chiaro.exr")
-    t_ch, stdout = run_chiaro_reference(args, scene_path, out, args.chiaro_spp, env, args.chiaro_seed)
+    t_ch, stdout = run_chiaro_reference(args, scene_path, out, args.chiaro_spp, env, args.chiaro_seed,
+                                       ["--sampler", args.chiaro_sampler])
     row["chiaro_s"] = t_ch
     x = read_exr(out)[..., :3].astype(np.float64)
     h0 = read_exr(os.path.join(d, "chiaro.half.exr"))[..., :3].astype(np.float64)

@@ -52,6 +52,7 @@ pub fn gpu_and_cpu_references(
             height: size,
             spp: cpu_spp,
             seed: 7,
+            sampler: chiaro_reference::Sampler::default(),
             threads: None,
             path: PathSettings::default(),
         },

@@ -67,6 +67,7 @@ fn reference(world: &mut World, size: u32, spp: u32) -> Vec<Vec3> {
         height: size,
         spp,
         seed: 11,
+        sampler: chiaro_reference::Sampler::default(),
         threads: None,
         path: PathSettings::default(),
     };

@@ -100,6 +100,7 @@ fn compare(
             height: size,
             spp,
             seed: 7,
+            sampler: chiaro_reference::Sampler::default(),
             threads: None,
             path: PathSettings {
                 direct_only: true,

@@ -40,6 +40,7 @@ fn gpu_and_cpu_references_agree_case_by_case() {
                 height: size,
                 spp: 256,
                 seed: 7,
+                sampler: chiaro_reference::Sampler::default(),
                 threads: None,
                 path: PathSettings::default(),
             },

@@ -91,6 +91,7 @@ fn cpu_reference(
             height: size,
             spp,
             seed: 7,
+            sampler: chiaro_reference::Sampler::default(),
             threads: None,
             path: PathSettings {
                 max_depth,

@@ -51,6 +51,7 @@ fn cpu_reference(direct_only: bool) -> (Vec<Vec3>, [Vec<Vec3>; 2]) {
             height: SIZE,
             spp: REFERENCE_SPP,
             seed: 7,
+            sampler: chiaro_reference::Sampler::default(),
             threads: None,
             path: PathSettings {
                 direct_only,

@@ -78,6 +78,7 @@ fn reference(world: &mut World) -> Vec<Vec3> {
         height: SIZE,
         spp: 1024,
         seed: 3,
+        sampler: chiaro_reference::Sampler::default(),
         threads: None,
         path: PathSettings::default(),
     };

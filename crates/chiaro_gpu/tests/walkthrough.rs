@@ -84,6 +84,7 @@ fn the_walkthrough_matches_the_cpu_reference_along_its_path() {
                 height: SIZE,
                 spp: 512,
                 seed: 7,
+                sampler: chiaro_reference::Sampler::default(),
                 threads: None,
                 path: PathSettings::default(),
             },

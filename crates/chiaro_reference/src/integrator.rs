@@ -13,11 +13,11 @@
 use chiaro_bvh::{Ray, offset_ray_origin};
 use chiaro_shading::brdf;
 use chiaro_shading::lights::{self, LightSample};
-use chiaro_shading::rng::Pcg32;
 use chiaro_shading::sampling::{power_heuristic, uniform_triangle};
 use glam::{Vec2, Vec3};
 
 use crate::light_table::{LightEntry, LightSampling};
+use crate::random::RandomSource;
 use crate::scene::RenderScene;
 use crate::surface::{SurfaceHit, emission_at, emitter_coverage, surface_at, uvs_at};
 
@@ -239,7 +239,12 @@ pub(crate) fn leaving_origin(si: &SurfaceHit, wi: Vec3) -> Vec3 {
 }
 
 /// Next-event estimate at `si`: one light picked by power, sampled, tested for visibility.
-fn direct_light(scene: &RenderScene, si: &SurfaceHit, wo: Vec3, rng: &mut Pcg32) -> Vec3 {
+fn direct_light(
+    scene: &RenderScene,
+    si: &SurfaceHit,
+    wo: Vec3,
+    rng: &mut impl RandomSource,
+) -> Vec3 {
     let (u_pick, u) = (rng.next_f32(), rng.next_vec2());
     let Some((index, pick)) = scene.lights.pick(u_pick, si.position, si.frame.normal) else {
         return Vec3::ZERO;
@@ -286,11 +291,11 @@ fn emission_weight(previous: Option<Previous>, light_pdf: impl FnOnce(&Previous)
     }
 }
 
-/// Radiance arriving along `ray` (a camera ray).
+/// Radiance arriving along `ray` (a camera ray), from the numbers `rng` draws.
 pub fn radiance(
     scene: &RenderScene,
     mut ray: Ray,
-    rng: &mut Pcg32,
+    rng: &mut impl RandomSource,
     settings: &PathSettings,
 ) -> Vec3 {
     let mut total = Vec3::ZERO;

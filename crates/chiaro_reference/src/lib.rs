@@ -34,6 +34,7 @@ mod output;
 mod random;
 mod render;
 mod scene;
+mod sobol;
 mod surface;
 mod texture_sampling;
 
@@ -42,6 +43,7 @@ pub use error::ReferenceError;
 pub use integrator::{Integrator, PathSettings};
 pub use light_table::{LightEntry, LightSampling, LightTable};
 pub use output::{read_exr, write_exr, write_png, write_png_pixels};
+pub use random::Sampler;
 pub use render::{MAX_THREADS, RenderOutput, RenderSettings, TILE, rel_mse, render};
 pub use scene::{RenderScene, prepare};
 

@@ -1,6 +1,7 @@
-//! The render loop: square tiles on rayon, each pixel with its own random stream seeded by
-//! (seed, pixel index), so the image for a seed is the same whatever the thread count. Samples
-//! alternate between two halves, kept apart so the reference's own noise can be measured.
+//! The render loop: square tiles on rayon, each pixel with its own random numbers seeded by
+//! (seed, pixel index): a PCG32 stream, or one Owen-scrambled Sobol sequence per half. So the
+//! image for a seed is the same whatever the thread count. Samples alternate between two
+//! halves, kept apart (independent scrambles) so the reference's own noise can be measured.
 //! Bidirectional samples also land on other pixels (light tracing): each tile returns those
 //! splats, and they are added in tile order, so that image too is independent of threads.
 
@@ -15,7 +16,9 @@ use crate::bdpt::{self, Splat, Strategies, Subpaths};
 use crate::error::ReferenceError;
 use crate::integrator::{Integrator, PathSettings, radiance};
 use crate::mlt;
+use crate::random::{RandomSource, Sampler};
 use crate::scene::RenderScene;
+use crate::sobol::OwenSobol;
 
 /// Side of the square tiles the image is split into.
 pub const TILE: u32 = 16;
@@ -35,6 +38,8 @@ pub struct RenderSettings {
     pub spp: u32,
     /// Seed of every pixel's random stream.
     pub seed: u64,
+    /// Where the samples' numbers come from (Metropolis light transport mutates its own).
+    pub sampler: Sampler,
     /// Worker threads, `1..=MAX_THREADS` (`None`: rayon's default, one per core).
     pub threads: Option<usize>,
     /// Path tracing options.
@@ -48,6 +53,7 @@ impl Default for RenderSettings {
             height: 256,
             spp: 64,
             seed: 0,
+            sampler: Sampler::default(),
             threads: None,
             path: PathSettings::default(),
         }
@@ -83,54 +89,101 @@ struct TileOutput {
     splats: [Vec<Splat>; 2],
 }
 
+/// What a tile's samples share: the scene, the settings, which bidirectional strategies count,
+/// the subpath buffers and the splats of each half.
+struct TileSampler<'a> {
+    scene: &'a RenderScene<'a>,
+    settings: &'a RenderSettings,
+    strategy: Strategies,
+    subpaths: Subpaths,
+    splats: [Vec<Splat>; 2],
+}
+
+impl TileSampler<'_> {
+    /// One sample of pixel (x, y) in `half`, from the numbers `rng` draws.
+    fn sample(&mut self, (x, y): (u32, u32), half: usize, rng: &mut impl RandomSource) -> Vec3 {
+        let path = &self.settings.path;
+        match path.integrator {
+            Integrator::Pt => {
+                let ray = self.scene.camera.ray(x, y, rng.next_vec2());
+                radiance(self.scene, ray, rng, path)
+            }
+            // Metropolis sampling does not render by tiles.
+            Integrator::Bdpt
+            | Integrator::PtLt
+            | Integrator::BdptStrategy { .. }
+            | Integrator::Mlt => {
+                let jitter = rng.next_vec2();
+                bdpt::sample(
+                    self.scene,
+                    (x, y),
+                    jitter,
+                    rng,
+                    path,
+                    self.strategy,
+                    &mut self.subpaths,
+                    &mut self.splats[half],
+                )
+            }
+        }
+    }
+}
+
 fn render_tile(scene: &RenderScene, settings: &RenderSettings, tile: (u32, u32)) -> TileOutput {
     let (x0, y0) = (tile.0 * TILE, tile.1 * TILE);
     let mut pixels = Vec::with_capacity((TILE * TILE) as usize);
-    let mut splats = [Vec::new(), Vec::new()];
-    let mut subpaths = Subpaths::default();
-    let strategy = match settings.path.integrator {
-        Integrator::BdptStrategy { s, t } => Strategies::One(s as usize, t as usize),
-        Integrator::PtLt => Strategies::CameraAndLightTracing,
-        _ => Strategies::All,
+    let mut tile_sampler = TileSampler {
+        scene,
+        settings,
+        strategy: match settings.path.integrator {
+            Integrator::BdptStrategy { s, t } => Strategies::One(s as usize, t as usize),
+            Integrator::PtLt => Strategies::CameraAndLightTracing,
+            _ => Strategies::All,
+        },
+        subpaths: Subpaths::default(),
+        splats: [Vec::new(), Vec::new()],
     };
     for y in y0..(y0 + TILE).min(settings.height) {
         for x in x0..(x0 + TILE).min(settings.width) {
             let index = y * settings.width + x;
-            let mut rng = Pcg32::new(settings.seed, index as u64);
             let mut sums = [Vec3::ZERO; 2];
             let mut dropped = 0;
-            for s in 0..settings.spp {
-                let half = (s % 2) as usize;
-                let l = match settings.path.integrator {
-                    Integrator::Pt => {
-                        let ray = scene.camera.ray(x, y, rng.next_vec2());
-                        radiance(scene, ray, &mut rng, &settings.path)
-                    }
-                    // Metropolis sampling does not render by tiles.
-                    Integrator::Bdpt
-                    | Integrator::PtLt
-                    | Integrator::BdptStrategy { .. }
-                    | Integrator::Mlt => bdpt::sample(
-                        scene,
-                        (x, y),
-                        rng.next_vec2(),
-                        &mut rng,
-                        &settings.path,
-                        strategy,
-                        &mut subpaths,
-                        &mut splats[half],
-                    ),
-                };
+            let mut add = |half: usize, l: Vec3| {
                 if l.is_finite() {
                     sums[half] += l;
                 } else {
                     dropped += 1;
                 }
+            };
+            // Even samples make half 0, odd ones half 1.
+            match settings.sampler {
+                Sampler::Independent => {
+                    let mut rng = Pcg32::new(settings.seed, index as u64);
+                    for s in 0..settings.spp {
+                        let half = (s % 2) as usize;
+                        add(half, tile_sampler.sample((x, y), half, &mut rng));
+                    }
+                }
+                Sampler::Sobol => {
+                    let mut sequences =
+                        [0, 1].map(|half| OwenSobol::new(settings.seed, index as u64, half));
+                    for s in 0..settings.spp {
+                        let half = (s % 2) as usize;
+                        sequences[half].start_sample(s / 2);
+                        add(
+                            half,
+                            tile_sampler.sample((x, y), half, &mut sequences[half]),
+                        );
+                    }
+                }
             }
             pixels.push((index, (sums, dropped)));
         }
     }
-    TileOutput { pixels, splats }
+    TileOutput {
+        pixels,
+        splats: tile_sampler.splats,
+    }
 }
 
 /// Renders `scene`; `progress` shows a bar with ETA on the terminal.

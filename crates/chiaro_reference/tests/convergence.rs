@@ -4,7 +4,7 @@
 
 use bevy_ecs::world::World;
 use chiaro_reference::{
-    LightSampling, PathSettings, RenderOutput, RenderSettings, rel_mse, render_world,
+    LightSampling, PathSettings, RenderOutput, RenderSettings, Sampler, rel_mse, render_world,
 };
 use chiaro_scene::builtin::shapes::floor;
 use chiaro_scene::{
@@ -146,6 +146,7 @@ fn noise_between_halves_falls_as_one_over_spp() {
                     height: 12,
                     spp,
                     seed,
+                    sampler: Sampler::Independent,
                     ..RenderSettings::default()
                 };
                 render("builtin:hard-cases?case=lit-group", settings).halves_rel_mse()

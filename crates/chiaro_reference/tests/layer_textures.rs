@@ -38,6 +38,7 @@ fn render(material: Material, texture: Option<Texture>) -> Vec<Vec3> {
         height: 16,
         spp: 16,
         seed: 3,
+        sampler: chiaro_reference::Sampler::default(),
         threads: Some(1),
         path: PathSettings::default(),
     };

@@ -14,6 +14,7 @@ fn settings(integrator: Integrator, spp: u32, seed: u64, threads: Option<usize>)
         height: 32,
         spp,
         seed,
+        sampler: chiaro_reference::Sampler::default(),
         threads,
         path: PathSettings {
             integrator,

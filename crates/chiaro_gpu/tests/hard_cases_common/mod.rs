@@ -93,6 +93,7 @@ pub fn cpu_reference(
         height: size,
         spp,
         seed: 7,
+        sampler: chiaro_reference::Sampler::default(),
         threads: None,
         path,
     };

@@ -1,0 +1,195 @@
+//! Randomised quasi-Monte Carlo numbers: Owen-scrambled Sobol points, one or two dimensions per
+//! draw.
+//!
+//! Every draw of a path (the position in the pixel, a light pick, a point on the light, a BRDF
+//! lobe and direction, Russian roulette) is a dimension of its own. A two-number draw reads the
+//! first two dimensions of the Sobol sequence (Sobol 1967; the second from the primitive
+//! polynomial x + 1), which form a (0, 2)-sequence in base 2: any 2^m consecutive points from an
+//! index that is a multiple of 2^m put exactly one point in each of the 2^m elementary intervals
+//! of area 2^-m. A one-number draw reads the first dimension, the van der Corput sequence, with
+//! one point in each interval of length 2^-m. So each draw alone is stratified over a pixel's
+//! samples, which is where the error falls faster than Monte Carlo's 1/n.
+//!
+//! Each dimension of each pixel (and half) then takes points in an order of its own, a nested
+//! uniform scramble of the sample index, and its own Owen scramble of the values. Both are the
+//! hash-based permutations of Burley (2020, "Practical Hash-based Owen Scrambling", JCGT 9(4),
+//! after Laine and Karras 2011). Shuffling the order keeps the first 2^m samples on one aligned
+//! block of 2^m points, so the stratification holds, and pairs draws of different dimensions at
+//! random, so they are not correlated. Scrambling makes every point uniformly distributed, so the
+//! estimate stays unbiased (Owen 1995). Drawing one or two dimensions at a time and padding them
+//! this way is the layout of pbrt-v4's padded Sobol sampler (Pharr, Jakob and Humphreys,
+//! "Physically Based Rendering", 4th ed., section 8.7).
+//!
+//! The bidirectional tracer's [`Stream`]s each number their dimensions from zero, so a longer
+//! camera subpath does not shift what its light subpath reads.
+
+use glam::Vec2;
+
+use crate::random::{RandomSource, Stream};
+
+/// Direction numbers of the Sobol sequence's second dimension: bit k of the index XORs column k
+/// into the point. From the polynomial x + 1 (degree 1, initial number m_1 = 1), the recurrence
+/// is v_k = v_(k-1) ^ (v_(k-1) >> 1), starting at one half.
+const SECOND_DIMENSION: [u32; 32] = second_dimension_columns();
+
+const fn second_dimension_columns() -> [u32; 32] {
+    let mut columns = [0u32; 32];
+    columns[0] = 1 << 31;
+    let mut k = 1;
+    while k < 32 {
+        columns[k] = columns[k - 1] ^ (columns[k - 1] >> 1);
+        k += 1;
+    }
+    columns
+}
+
+/// [`SECOND_DIMENSION`]'s columns combined a byte of the index at a time: entry [b][v] is the
+/// XOR of the columns of byte b's set bits in v.
+const SECOND_DIMENSION_BYTES: [[u32; 256]; 4] = second_dimension_bytes();
+
+const fn second_dimension_bytes() -> [[u32; 256]; 4] {
+    let mut table = [[0u32; 256]; 4];
+    let mut byte = 0;
+    while byte < 4 {
+        let mut v = 0;
+        while v < 256 {
+            let mut point = 0;
+            let mut k = 0;
+            while k < 8 {
+                if v & (1 << k) != 0 {
+                    point ^= SECOND_DIMENSION[8 * byte + k];
+                }
+                k += 1;
+            }
+            table[byte][v] = point;
+            v += 1;
+        }
+        byte += 1;
+    }
+    table
+}
+
+/// The first Sobol dimension of point `index` as a 32-bit fraction: the van der Corput radical
+/// inverse, the index's bits reversed.
+#[cfg(test)]
+fn sobol_first(index: u32) -> u32 {
+    index.reverse_bits()
+}
+
+/// The second Sobol dimension of point `index` as a 32-bit fraction.
+fn sobol_second(index: u32) -> u32 {
+    let [b0, b1, b2, b3] = index.to_le_bytes();
+    SECOND_DIMENSION_BYTES[0][b0 as usize]
+        ^ SECOND_DIMENSION_BYTES[1][b1 as usize]
+        ^ SECOND_DIMENSION_BYTES[2][b2 as usize]
+        ^ SECOND_DIMENSION_BYTES[3][b3 as usize]
+}
+
+/// Burley's (2020) improved Laine-Karras permutation: a multiplication by an odd number, an
+/// addition, and XORs with products by even numbers, each of which changes a bit only as the
+/// bits below it say. Applied to a fraction's reversed bits, it is a nested uniform (Owen)
+/// scramble drawn by `seed`: each bit flipped or not depending on the bits above it alone.
+fn laine_karras(mut v: u32, seed: u32) -> u32 {
+    v ^= v.wrapping_mul(0x3d20_adea);
+    v = v.wrapping_add(seed);
+    v = v.wrapping_mul((seed >> 16) | 1);
+    v ^= v.wrapping_mul(0x0552_6c56);
+    v ^= v.wrapping_mul(0x53a2_2864);
+    v
+}
+
+/// The nested uniform scramble of the 32-bit fraction `x`.
+fn nested_uniform_scramble(x: u32, seed: u32) -> u32 {
+    laine_karras(x.reverse_bits(), seed).reverse_bits()
+}
+
+/// A 64-bit mixing function (the finaliser of Steele, Lea and Flood's SplitMix64): every input
+/// bit changes about half the output bits.
+fn mix(mut x: u64) -> u64 {
+    x ^= x >> 30;
+    x = x.wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    x ^= x >> 27;
+    x = x.wrapping_mul(0x94d0_49bb_1331_11eb);
+    x ^ (x >> 31)
+}
+
+/// A 32-bit fraction as a float in [0, 1): its top 24 bits, exactly.
+fn to_unit(x: u32) -> f32 {
+    (x >> 8) as f32 * (1.0 / 16_777_216.0)
+}
+
+/// One pixel's (and one half's) sequence of Owen-scrambled Sobol samples. Call
+/// [`OwenSobol::start_sample`] before each sample; its draws then read the dimensions in order.
+#[derive(Clone, Copy, Debug)]
+pub struct OwenSobol {
+    /// The scrambles' key: a hash of the seed, the pixel and the half.
+    key: u64,
+    /// The sample's index among this sequence's, its bits reversed.
+    reversed_index: u32,
+    /// The stream being drawn from.
+    stream: u64,
+    /// The next dimension of that stream.
+    dimension: u64,
+}
+
+impl OwenSobol {
+    /// The sequence of `seed` for `pixel`, half `half` (the halves must be independent, so each
+    /// has scrambles of its own).
+    pub fn new(seed: u64, pixel: u64, half: u32) -> Self {
+        Self {
+            key: mix(mix(seed ^ mix(pixel)) ^ u64::from(half)),
+            reversed_index: 0,
+            stream: 0,
+            dimension: 0,
+        }
+    }
+
+    /// Starts sample `index` of the sequence, at its first dimension of the camera stream.
+    pub fn start_sample(&mut self, index: u32) {
+        self.reversed_index = index.reverse_bits();
+        self.stream = Stream::Camera as u64;
+        self.dimension = 0;
+    }
+
+    /// The hash for the next dimension, which it then moves past.
+    fn next_dimension(&mut self) -> u64 {
+        let id = (self.stream << 48) | self.dimension;
+        self.dimension += 1;
+        mix(self.key ^ id.wrapping_mul(0x9e37_79b9_7f4a_7c15))
+    }
+
+    /// The dimension's first Sobol coordinate, unscrambled, of the sample's place in the
+    /// dimension's own order (the index's nested uniform scramble by `seed`). The radical
+    /// inverse of the shuffled index is the Laine-Karras permutation of the reversed index.
+    fn shuffled_first(&self, seed: u32) -> u32 {
+        laine_karras(self.reversed_index, seed)
+    }
+}
+
+impl RandomSource for OwenSobol {
+    fn next_f32(&mut self) -> f32 {
+        let hash = self.next_dimension();
+        let x = self.shuffled_first(hash as u32);
+        to_unit(nested_uniform_scramble(x, (hash >> 32) as u32))
+    }
+
+    fn next_vec2(&mut self) -> Vec2 {
+        let hash = self.next_dimension();
+        let x = self.shuffled_first(hash as u32);
+        let y = sobol_second(x.reverse_bits());
+        let y_seed = (hash.wrapping_mul(0xd6e8_feb8_6659_fd93) >> 32) as u32;
+        Vec2::new(
+            to_unit(nested_uniform_scramble(x, (hash >> 32) as u32)),
+            to_unit(nested_uniform_scramble(y, y_seed)),
+        )
+    }
+
+    fn start_stream(&mut self, stream: Stream) {
+        self.stream = stream as u64;
+        self.dimension = 0;
+    }
+}
+
+#[cfg(test)]
+#[path = "sobol_tests.rs"]
+mod tests;
