@@ -10,8 +10,8 @@ figures near it are limited by the reference, not by the test image.
 
 Measures with `chiaro compare` (needs only a release build: cargo build --release).
 
-With several `--light-sampling` methods, each is measured at each spp (the converged render uses
-the first), so the methods can be compared at equal time.
+With several `--light-sampling` methods or `--sampler`s, each is measured at each spp (the
+converged render uses the first of each), so they can be compared at equal time.
 
 Examples:
     python3 scripts/reference_convergence.py --scene builtin:cornell --size 128x128 \\
@@ -27,9 +27,9 @@ import subprocess
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
-def render(chiaro, scene, size, spp, seed, out, light_sampling):
+def render(chiaro, scene, size, spp, seed, out, light_sampling, sampler):
     cmd = [chiaro, "reference", scene, "--spp", str(spp), "--size", size, "--seed", str(seed), "--out", out,
-           "--light-sampling", light_sampling]
+           "--light-sampling", light_sampling, "--sampler", sampler]
     text = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
     seconds = next(float(line.split(" in ")[1].split()[0]) for line in text.splitlines() if " spp in " in line)
     halves = next(float(line.split(":")[1].split()[0]) for line in text.splitlines() if line.startswith("relMSE"))
@@ -50,20 +50,23 @@ def main():
     ap.add_argument("--chiaro", default=os.path.join(REPO, "target", "release", "chiaro"))
     ap.add_argument("--out-dir", default="/tmp/chiaro_convergence")
     ap.add_argument("--light-sampling", nargs="+", default=["tree"], choices=["tree", "power"])
+    ap.add_argument("--sampler", nargs="+", default=["sobol"], choices=["sobol", "independent"])
     args = ap.parse_args()
     os.makedirs(args.out_dir, exist_ok=True)
     ref_path = os.path.join(args.out_dir, "converged.exr")
     methods = args.light_sampling
-    seconds, halves = render(args.chiaro, args.scene, args.size, args.reference_spp, 1, ref_path, methods[0])
+    seconds, halves = render(args.chiaro, args.scene, args.size, args.reference_spp, 1, ref_path, methods[0],
+                             args.sampler[0])
     print(f"{args.scene} {args.size}: converged {args.reference_spp} spp (seed 1) in {seconds:.1f} s, "
           f"its own noise ~ {halves / 4:.2e}")
-    print("| light sampling | spp | render time (s) | relMSE vs converged |")
-    print("|---|---|---|---|")
+    print("| light sampling | sampler | spp | render time (s) | relMSE vs converged |")
+    print("|---|---|---|---|---|")
     for method in methods:
-        for spp in args.spp:
-            path = os.path.join(args.out_dir, f"{method}_spp{spp}.exr")
-            seconds, _ = render(args.chiaro, args.scene, args.size, spp, 0, path, method)
-            print(f"| {method} | {spp} | {seconds:.2f} | {rel_mse(args.chiaro, path, ref_path):.3e} |")
+        for sampler in args.sampler:
+            for spp in args.spp:
+                path = os.path.join(args.out_dir, f"{method}_{sampler}_spp{spp}.exr")
+                seconds, _ = render(args.chiaro, args.scene, args.size, spp, 0, path, method, sampler)
+                print(f"| {method} | {sampler} | {spp} | {seconds:.2f} | {rel_mse(args.chiaro, path, ref_path):.3e} |")
 
 
 if __name__ == "__main__":
