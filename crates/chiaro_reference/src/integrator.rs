@@ -245,7 +245,7 @@ fn direct_light(
     wo: Vec3,
     rng: &mut impl RandomSource,
 ) -> Vec3 {
-    let (u_pick, u) = (rng.next_f32(), rng.next_vec2());
+    let (u_pick, u) = rng.next_choice_and_vec2();
     let Some((index, pick)) = scene.lights.pick(u_pick, si.position, si.frame.normal) else {
         return Vec3::ZERO;
     };
@@ -338,7 +338,8 @@ pub fn radiance(
         let wo = si.frame.to_local(-ray.direction);
         total += throughput * direct_light(scene, &si, wo, rng);
 
-        let Some(sample) = brdf::sample(&si.params, wo, rng.next_f32(), rng.next_vec2()) else {
+        let (u_lobe, u) = rng.next_choice_and_vec2();
+        let Some(sample) = brdf::sample(&si.params, wo, u_lobe, u) else {
             break;
         };
         let wi = si.frame.to_world(sample.wi);

@@ -32,6 +32,14 @@ pub trait RandomSource {
         Vec2::new(x, self.next_f32())
     }
 
+    /// A choice (which lobe, which light) and the two numbers of the chosen one's warp, drawn
+    /// together so that a stratified sampler can stratify the warp within each choice: the next
+    /// number, then the next two.
+    fn next_choice_and_vec2(&mut self) -> (f32, Vec2) {
+        let choice = self.next_f32();
+        (choice, self.next_vec2())
+    }
+
     /// Draws from the start of `stream` from here on. One sequence (a [`Pcg32`]) ignores it.
     fn start_stream(&mut self, _stream: Stream) {}
 }

@@ -43,11 +43,17 @@ const fn second_dimension_columns() -> [u32; 32] {
     columns
 }
 
-/// [`SECOND_DIMENSION`]'s columns combined a byte of the index at a time: entry [b][v] is the
-/// XOR of the columns of byte b's set bits in v.
-const SECOND_DIMENSION_BYTES: [[u32; 256]; 4] = second_dimension_bytes();
+/// A dimension's columns combined a byte of the index at a time: entry [b][v] is the XOR of the
+/// columns of byte b's set bits in v.
+type ByteTables = [[u32; 256]; 4];
 
-const fn second_dimension_bytes() -> [[u32; 256]; 4] {
+/// [`SECOND_DIMENSION`] by bytes.
+const SECOND_DIMENSION_BYTES: ByteTables = byte_tables(&SECOND_DIMENSION);
+
+/// [`THIRD_DIMENSION`] by bytes.
+const THIRD_DIMENSION_BYTES: ByteTables = byte_tables(&THIRD_DIMENSION);
+
+const fn byte_tables(columns: &[u32; 32]) -> ByteTables {
     let mut table = [[0u32; 256]; 4];
     let mut byte = 0;
     while byte < 4 {
@@ -57,7 +63,7 @@ const fn second_dimension_bytes() -> [[u32; 256]; 4] {
             let mut k = 0;
             while k < 8 {
                 if v & (1 << k) != 0 {
-                    point ^= SECOND_DIMENSION[8 * byte + k];
+                    point ^= columns[8 * byte + k];
                 }
                 k += 1;
             }
@@ -69,6 +75,23 @@ const fn second_dimension_bytes() -> [[u32; 256]; 4] {
     table
 }
 
+/// Direction numbers of the Sobol sequence's third dimension, from the polynomial x^2 + x + 1
+/// (degree 2, a = 1, initial numbers m = 1, 3; Joe and Kuo 2008): v_k = v_(k-1) ^ v_(k-2) ^
+/// (v_(k-2) >> 2).
+const THIRD_DIMENSION: [u32; 32] = third_dimension_columns();
+
+const fn third_dimension_columns() -> [u32; 32] {
+    let mut columns = [0u32; 32];
+    columns[0] = 1 << 31;
+    columns[1] = 3 << 30;
+    let mut k = 2;
+    while k < 32 {
+        columns[k] = columns[k - 1] ^ columns[k - 2] ^ (columns[k - 2] >> 2);
+        k += 1;
+    }
+    columns
+}
+
 /// The first Sobol dimension of point `index` as a 32-bit fraction: the van der Corput radical
 /// inverse, the index's bits reversed.
 #[cfg(test)]
@@ -76,13 +99,23 @@ fn sobol_first(index: u32) -> u32 {
     index.reverse_bits()
 }
 
+/// Point `index` of the dimension whose byte tables are `tables`, as a 32-bit fraction.
+fn by_bytes(tables: &ByteTables, index: u32) -> u32 {
+    let [b0, b1, b2, b3] = index.to_le_bytes();
+    tables[0][b0 as usize]
+        ^ tables[1][b1 as usize]
+        ^ tables[2][b2 as usize]
+        ^ tables[3][b3 as usize]
+}
+
 /// The second Sobol dimension of point `index` as a 32-bit fraction.
 fn sobol_second(index: u32) -> u32 {
-    let [b0, b1, b2, b3] = index.to_le_bytes();
-    SECOND_DIMENSION_BYTES[0][b0 as usize]
-        ^ SECOND_DIMENSION_BYTES[1][b1 as usize]
-        ^ SECOND_DIMENSION_BYTES[2][b2 as usize]
-        ^ SECOND_DIMENSION_BYTES[3][b3 as usize]
+    by_bytes(&SECOND_DIMENSION_BYTES, index)
+}
+
+/// The third Sobol dimension of point `index` as a 32-bit fraction.
+fn sobol_third(index: u32) -> u32 {
+    by_bytes(&THIRD_DIMENSION_BYTES, index)
 }
 
 /// Burley's (2020) improved Laine-Karras permutation: a multiplication by an odd number, an
@@ -116,6 +149,17 @@ fn mix(mut x: u64) -> u64 {
 /// A 32-bit fraction as a float in [0, 1): its top 24 bits, exactly.
 fn to_unit(x: u32) -> f32 {
     (x >> 8) as f32 * (1.0 / 16_777_216.0)
+}
+
+/// The scrambled first two coordinates of the dimension with hash `hash`, whose shuffled
+/// first coordinate is `x`.
+fn scrambled_pair(hash: u64, x: u32) -> Vec2 {
+    let y = sobol_second(x.reverse_bits());
+    let y_seed = (hash.wrapping_mul(0xd6e8_feb8_6659_fd93) >> 32) as u32;
+    Vec2::new(
+        to_unit(nested_uniform_scramble(x, (hash >> 32) as u32)),
+        to_unit(nested_uniform_scramble(y, y_seed)),
+    )
 }
 
 /// One pixel's (and one half's) sequence of Owen-scrambled Sobol samples. Call
@@ -175,13 +219,18 @@ impl RandomSource for OwenSobol {
 
     fn next_vec2(&mut self) -> Vec2 {
         let hash = self.next_dimension();
+        scrambled_pair(hash, self.shuffled_first(hash as u32))
+    }
+
+    /// The choice is the third Sobol dimension, the warp's numbers the first two: the first
+    /// three dimensions form a (1, 3)-sequence, so the points whose choice falls in an interval
+    /// of 2^-k are still stratified in the other two (up to pairs).
+    fn next_choice_and_vec2(&mut self) -> (f32, Vec2) {
+        let hash = self.next_dimension();
         let x = self.shuffled_first(hash as u32);
-        let y = sobol_second(x.reverse_bits());
-        let y_seed = (hash.wrapping_mul(0xd6e8_feb8_6659_fd93) >> 32) as u32;
-        Vec2::new(
-            to_unit(nested_uniform_scramble(x, (hash >> 32) as u32)),
-            to_unit(nested_uniform_scramble(y, y_seed)),
-        )
+        let choice_seed = (hash.wrapping_mul(0x9e6c_63d0_676a_9a99) >> 32) as u32;
+        let choice = nested_uniform_scramble(sobol_third(x.reverse_bits()), choice_seed);
+        (to_unit(choice), scrambled_pair(hash, x))
     }
 
     fn start_stream(&mut self, stream: Stream) {

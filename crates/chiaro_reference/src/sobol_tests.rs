@@ -172,3 +172,48 @@ fn the_shuffled_coordinate_is_the_radical_inverse_of_the_shuffled_index() {
         );
     }
 }
+
+#[test]
+fn a_choice_and_its_pair_are_a_three_dimensional_net() {
+    // The first three Sobol dimensions are a (1, 3)-sequence: 2^m points put exactly two in each
+    // box of 2^-a by 2^-b by 2^-c with a + b + c = m - 1, scrambled or not.
+    let mut sampler = OwenSobol::new(2, 31, 0);
+    for m in 1..=8u32 {
+        let n = 1u32 << m;
+        let points: Vec<(f32, Vec2)> = (0..n)
+            .map(|i| {
+                sampler.start_sample(i);
+                sampler.next_f32();
+                sampler.next_choice_and_vec2()
+            })
+            .collect();
+        for a in 0..m {
+            for b in 0..m - a {
+                let c = m - 1 - a - b;
+                let (na, nb, nc) = (1u32 << a, 1u32 << b, 1u32 << c);
+                let mut count = vec![0u32; (na * nb * nc) as usize];
+                for (choice, p) in &points {
+                    let cell = ((choice * na as f32) as u32 * nb + (p.x * nb as f32) as u32) * nc
+                        + (p.y * nc as f32) as u32;
+                    count[cell as usize] += 1;
+                }
+                assert!(
+                    count.iter().all(|&k| k == 2),
+                    "{n} points in {na}x{nb}x{nc} boxes"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn the_third_dimension_tables_combine_its_columns() {
+    let mut rng = chiaro_shading::rng::Pcg32::new(7, 8);
+    for _ in 0..1000 {
+        let index = rng.next_u32();
+        let by_bits = (0..32)
+            .filter(|k| index & (1 << k) != 0)
+            .fold(0, |point, k| point ^ THIRD_DIMENSION[k]);
+        assert_eq!(sobol_third(index), by_bits, "index {index:#x}");
+    }
+}

@@ -5,7 +5,11 @@ use bevy_ecs::world::World;
 use chiaro_reference::{
     Integrator, PathSettings, RenderOutput, RenderSettings, Sampler, render_world,
 };
-use chiaro_scene::load_scene;
+use chiaro_scene::builtin::shapes::floor;
+use chiaro_scene::{
+    Camera, Environment, Material, Node, Projection, SceneBuilder, Transform, load_scene,
+};
+use glam::Vec3;
 
 fn render(spec: &str, settings: RenderSettings) -> RenderOutput {
     let mut world = World::new();
@@ -111,4 +115,52 @@ fn sobol_renders_direct_light_with_far_less_noise() {
 #[test]
 fn sobol_serves_the_bidirectional_tracer_too() {
     compare("builtin:cornell", Integrator::Bdpt, 128, 0.8);
+}
+
+#[test]
+fn sobol_stratifies_the_brdf_lobes_of_a_glossy_card_under_a_constant_sky() {
+    // A dielectric card (base 0.8, roughness 0.5) seen at 45 degrees under a constant sky: each
+    // pixel's light is one BRDF sample, a lobe (diffuse or specular) then a direction. Drawn
+    // together (next_choice_and_vec2) the directions stay stratified within each lobe: here
+    // halves' relMSE 3.1e-5 against independent numbers' 1.7e-4. Drawn apart, each lobe got a
+    // random subset of the points: 9.6e-5, which fails this bound.
+    let noise = |sampler| {
+        let mut b = SceneBuilder::new("glossy card");
+        let material = b.add_material(Material::diffuse("card", Vec3::splat(0.8), 0.5));
+        let mesh = b.add_mesh("mesh", "card", floor(2.0)).unwrap().unwrap();
+        b.add_instance("card", mesh, material, Transform::IDENTITY);
+        b.add_node(Node {
+            name: Some("camera".into()),
+            transform: Transform::looking_at(Vec3::new(0.0, 2.0, 2.0), Vec3::ZERO, Vec3::Y),
+            camera: Some(Camera {
+                projection: Projection::Orthographic {
+                    xmag: 0.5,
+                    ymag: 0.5,
+                    znear: 0.0,
+                    zfar: 10.0,
+                },
+            }),
+            ..Node::default()
+        });
+        let mut world = World::new();
+        b.spawn(&mut world);
+        world.insert_resource(Environment::constant(Vec3::splat(0.5)));
+        let settings = RenderSettings {
+            width: 16,
+            height: 16,
+            spp: 256,
+            seed: 2,
+            sampler,
+            ..RenderSettings::default()
+        };
+        render_world(&mut world, &settings, false)
+            .unwrap()
+            .halves_rel_mse()
+    };
+    let (sobol, independent) = (noise(Sampler::Sobol), noise(Sampler::Independent));
+    eprintln!("glossy card: halves' relMSE {sobol:.3e} sobol, {independent:.3e} independent");
+    assert!(
+        sobol < 0.3 * independent,
+        "halves' relMSE {sobol:.3e} with sobol, {independent:.3e} independent"
+    );
 }
