@@ -7,8 +7,10 @@
 //! polynomial x + 1), which form a (0, 2)-sequence in base 2: any 2^m consecutive points from an
 //! index that is a multiple of 2^m put exactly one point in each of the 2^m elementary intervals
 //! of area 2^-m. A one-number draw reads the first dimension, the van der Corput sequence, with
-//! one point in each interval of length 2^-m. So each draw alone is stratified over a pixel's
-//! samples, which is where the error falls faster than Monte Carlo's 1/n.
+//! one point in each interval of length 2^-m. A choice (a BRDF lobe, a light) drawn with the two
+//! numbers of its warp reads the first three dimensions, a (1, 3)-sequence, so the directions of
+//! each lobe stay stratified too. So each draw alone is stratified over a pixel's samples, which
+//! is where the error falls faster than Monte Carlo's 1/n.
 //!
 //! Each dimension of each pixel (and half) then takes points in an order of its own, a nested
 //! uniform scramble of the sample index, and its own Owen scramble of the values. Both are the
