@@ -45,8 +45,8 @@ const fn second_dimension_columns() -> [u32; 32] {
     columns
 }
 
-/// A dimension's columns combined a byte of the index at a time: entry [b][v] is the XOR of the
-/// columns of byte b's set bits in v.
+/// A dimension's columns combined a byte of the index at a time, bits reversed: entry [b][v] is
+/// the XOR of the columns of byte b's set bits in v, reversed (the form the scramble reads).
 type ByteTables = [[u32; 256]; 4];
 
 /// [`SECOND_DIMENSION`] by bytes.
@@ -69,7 +69,7 @@ const fn byte_tables(columns: &[u32; 32]) -> ByteTables {
                 }
                 k += 1;
             }
-            table[byte][v] = point;
+            table[byte][v] = point.reverse_bits();
             v += 1;
         }
         byte += 1;
@@ -101,7 +101,8 @@ fn sobol_first(index: u32) -> u32 {
     index.reverse_bits()
 }
 
-/// Point `index` of the dimension whose byte tables are `tables`, as a 32-bit fraction.
+/// Point `index` of the dimension whose byte tables are `tables`, as a 32-bit fraction with its
+/// bits reversed.
 fn by_bytes(tables: &ByteTables, index: u32) -> u32 {
     let [b0, b1, b2, b3] = index.to_le_bytes();
     tables[0][b0 as usize]
@@ -110,13 +111,13 @@ fn by_bytes(tables: &ByteTables, index: u32) -> u32 {
         ^ tables[3][b3 as usize]
 }
 
-/// The second Sobol dimension of point `index` as a 32-bit fraction.
-fn sobol_second(index: u32) -> u32 {
+/// The second Sobol dimension of point `index`, bits reversed.
+fn sobol_second_reversed(index: u32) -> u32 {
     by_bytes(&SECOND_DIMENSION_BYTES, index)
 }
 
-/// The third Sobol dimension of point `index` as a 32-bit fraction.
-fn sobol_third(index: u32) -> u32 {
+/// The third Sobol dimension of point `index`, bits reversed.
+fn sobol_third_reversed(index: u32) -> u32 {
     by_bytes(&THIRD_DIMENSION_BYTES, index)
 }
 
@@ -133,9 +134,15 @@ fn laine_karras(mut v: u32, seed: u32) -> u32 {
     v
 }
 
+/// The nested uniform scramble of the 32-bit fraction whose bits reversed are `reversed`.
+fn scramble_reversed(reversed: u32, seed: u32) -> u32 {
+    laine_karras(reversed, seed).reverse_bits()
+}
+
 /// The nested uniform scramble of the 32-bit fraction `x`.
+#[cfg(test)]
 fn nested_uniform_scramble(x: u32, seed: u32) -> u32 {
-    laine_karras(x.reverse_bits(), seed).reverse_bits()
+    scramble_reversed(x.reverse_bits(), seed)
 }
 
 /// A 64-bit mixing function (the finaliser of Steele, Lea and Flood's SplitMix64): every input
@@ -156,11 +163,11 @@ fn to_unit(x: u32) -> f32 {
 /// The scrambled first two coordinates of the dimension with hash `hash`, whose shuffled
 /// first coordinate is `x`.
 fn scrambled_pair(hash: u64, x: u32) -> Vec2 {
-    let y = sobol_second(x.reverse_bits());
+    let shuffled = x.reverse_bits();
     let y_seed = (hash.wrapping_mul(0xd6e8_feb8_6659_fd93) >> 32) as u32;
     Vec2::new(
-        to_unit(nested_uniform_scramble(x, (hash >> 32) as u32)),
-        to_unit(nested_uniform_scramble(y, y_seed)),
+        to_unit(scramble_reversed(shuffled, (hash >> 32) as u32)),
+        to_unit(scramble_reversed(sobol_second_reversed(shuffled), y_seed)),
     )
 }
 
@@ -216,7 +223,7 @@ impl RandomSource for OwenSobol {
     fn next_f32(&mut self) -> f32 {
         let hash = self.next_dimension();
         let x = self.shuffled_first(hash as u32);
-        to_unit(nested_uniform_scramble(x, (hash >> 32) as u32))
+        to_unit(scramble_reversed(x.reverse_bits(), (hash >> 32) as u32))
     }
 
     fn next_vec2(&mut self) -> Vec2 {
@@ -231,7 +238,7 @@ impl RandomSource for OwenSobol {
         let hash = self.next_dimension();
         let x = self.shuffled_first(hash as u32);
         let choice_seed = (hash.wrapping_mul(0x9e6c_63d0_676a_9a99) >> 32) as u32;
-        let choice = nested_uniform_scramble(sobol_third(x.reverse_bits()), choice_seed);
+        let choice = scramble_reversed(sobol_third_reversed(x.reverse_bits()), choice_seed);
         (to_unit(choice), scrambled_pair(hash, x))
     }
 

@@ -1,5 +1,15 @@
 use super::*;
 
+/// The second Sobol dimension of point `index` as a 32-bit fraction.
+fn sobol_second(index: u32) -> u32 {
+    sobol_second_reversed(index).reverse_bits()
+}
+
+/// The third Sobol dimension of point `index` as a 32-bit fraction.
+fn sobol_third(index: u32) -> u32 {
+    sobol_third_reversed(index).reverse_bits()
+}
+
 /// The points of sample `index`'s `draws`-th two-number draw (after `draws` earlier ones).
 fn vec2_draw(sampler: &mut OwenSobol, index: u32, draws: usize) -> Vec2 {
     sampler.start_sample(index);
