@@ -94,13 +94,6 @@ const fn third_dimension_columns() -> [u32; 32] {
     columns
 }
 
-/// The first Sobol dimension of point `index` as a 32-bit fraction: the van der Corput radical
-/// inverse, the index's bits reversed.
-#[cfg(test)]
-fn sobol_first(index: u32) -> u32 {
-    index.reverse_bits()
-}
-
 /// Point `index` of the dimension whose byte tables are `tables`, as a 32-bit fraction with its
 /// bits reversed.
 fn by_bytes(tables: &ByteTables, index: u32) -> u32 {
@@ -137,12 +130,6 @@ fn laine_karras(mut v: u32, seed: u32) -> u32 {
 /// The nested uniform scramble of the 32-bit fraction whose bits reversed are `reversed`.
 fn scramble_reversed(reversed: u32, seed: u32) -> u32 {
     laine_karras(reversed, seed).reverse_bits()
-}
-
-/// The nested uniform scramble of the 32-bit fraction `x`.
-#[cfg(test)]
-fn nested_uniform_scramble(x: u32, seed: u32) -> u32 {
-    scramble_reversed(x.reverse_bits(), seed)
 }
 
 /// A 64-bit mixing function (the finaliser of Steele, Lea and Flood's SplitMix64): every input

@@ -3,12 +3,15 @@
 //! against the path tracer's light of the same number of bounces, and the image independent of
 //! the thread count.
 
+mod common;
+
 use bevy_ecs::world::World;
 use chiaro_reference::{
     Integrator, PathSettings, RenderOutput, RenderSettings, rel_mse, render_world,
 };
 use chiaro_scene::load_scene;
-use glam::Vec3;
+
+use common::{mean, standard_error_of_halves};
 
 fn render(spec: &str, integrator: Integrator, spp: u32, max_depth: u32, seed: u64) -> RenderOutput {
     let mut world = World::new();
@@ -30,17 +33,6 @@ fn render(spec: &str, integrator: Integrator, spp: u32, max_depth: u32, seed: u6
     out
 }
 
-fn mean(image: &[Vec3]) -> f64 {
-    image.iter().map(|p| (p.x + p.y + p.z) as f64).sum::<f64>() / (3 * image.len()) as f64
-}
-
-/// Standard error of the image mean, from the spread of the two halves' means (each half an
-/// independent estimate; splats reach any pixel, so pixels are not independent).
-fn standard_error(out: &RenderOutput) -> f64 {
-    let [a, b] = &out.halves;
-    (mean(a) - mean(b)).abs() / 2.0
-}
-
 /// The whole estimator against the path tracer: their relMSE is within 2.5 times what their own
 /// noise explains (each image's error about a quarter of its halves' relMSE), and their means
 /// agree.
@@ -52,7 +44,8 @@ fn bdpt_matches_the_path_tracer_on_the_cornell_box() {
     let error = rel_mse(&bdpt.image, &pt.image);
     assert!(error < 2.5 * noise, "relMSE {error:.3e}, noise {noise:.3e}");
     let (a, b) = (mean(&bdpt.image), mean(&pt.image));
-    let se = (standard_error(&pt).powi(2) + standard_error(&bdpt).powi(2)).sqrt();
+    let se =
+        (standard_error_of_halves(&pt).powi(2) + standard_error_of_halves(&bdpt).powi(2)).sqrt();
     assert!(
         (a - b).abs() < 4.0 * se + 1e-3 * b,
         "mean {a} against {b}, se {se}"
@@ -63,7 +56,7 @@ fn bdpt_matches_the_path_tracer_on_the_cornell_box() {
 #[test]
 fn bdpt_furnace_converges_to_one() {
     let out = render("builtin:furnace", Integrator::Bdpt, 64, 64, 3);
-    let (m, se) = (mean(&out.image), standard_error(&out));
+    let (m, se) = (mean(&out.image), standard_error_of_halves(&out));
     assert!((m - 1.0).abs() < 4.0 * se + 5e-3, "mean {m}, se {se}");
 }
 
@@ -76,7 +69,8 @@ fn each_strategy_alone_estimates_the_two_bounce_light() {
     let two = render("builtin:cornell", Integrator::Pt, 512, 2, 4);
     let one = render("builtin:cornell", Integrator::Pt, 512, 1, 5);
     let expected = mean(&two.image) - mean(&one.image);
-    let expected_se = (standard_error(&two).powi(2) + standard_error(&one).powi(2)).sqrt();
+    let expected_se =
+        (standard_error_of_halves(&two).powi(2) + standard_error_of_halves(&one).powi(2)).sqrt();
     assert!(expected > 5e-3, "two-bounce light {expected}");
     for (s, t) in [(0, 4), (1, 3), (2, 2), (3, 1)] {
         let out = render(
@@ -86,7 +80,7 @@ fn each_strategy_alone_estimates_the_two_bounce_light() {
             2,
             6,
         );
-        let (m, se) = (mean(&out.image), standard_error(&out));
+        let (m, se) = (mean(&out.image), standard_error_of_halves(&out));
         let bound = 4.0 * (se * se + expected_se * expected_se).sqrt() + 2e-3 * expected;
         eprintln!("strategy ({s}, {t}): mean {m:.5} (se {se:.1e}), path tracer {expected:.5}");
         assert!(

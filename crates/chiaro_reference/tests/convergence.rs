@@ -2,6 +2,8 @@
 //! plane (closed form), noise falling as 1/spp, its own-noise estimate predicting its error,
 //! Russian roulette unbiased, and images that do not depend on the thread count.
 
+mod common;
+
 use bevy_ecs::world::World;
 use chiaro_reference::{
     LightSampling, PathSettings, RenderOutput, RenderSettings, Sampler, rel_mse, render_world,
@@ -12,29 +14,12 @@ use chiaro_scene::{
 };
 use glam::Vec3;
 
+use common::{mean, standard_error};
+
 fn render(spec: &str, settings: RenderSettings) -> RenderOutput {
     let mut world = World::new();
     load_scene(&mut world, spec).unwrap();
     render_world(&mut world, &settings, false).unwrap()
-}
-
-fn mean(image: &[Vec3]) -> f64 {
-    image.iter().map(|p| (p.x + p.y + p.z) as f64).sum::<f64>() / (3 * image.len()) as f64
-}
-
-/// Standard error of the image mean, from the spread between the two independent halves:
-/// Var(pixel) = E[(half0 - half1)^2] / 4 for the full image (equal-size halves).
-fn standard_error(out: &RenderOutput) -> f64 {
-    let [a, b] = &out.halves;
-    let sum: f64 = a
-        .iter()
-        .zip(b)
-        .map(|(x, y)| {
-            let d = (*x - *y) / 3.0;
-            ((d.x + d.y + d.z) as f64).powi(2) / 4.0
-        })
-        .sum();
-    sum.sqrt() / a.len() as f64
 }
 
 #[test]

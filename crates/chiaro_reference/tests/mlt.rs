@@ -1,12 +1,16 @@
 //! Metropolis light transport converges to the path tracer's image: on the Cornell box and in
 //! the furnace, and the image for a seed does not depend on the thread count.
 
+mod common;
+
 use bevy_ecs::world::World;
 use chiaro_reference::{
     Integrator, PathSettings, RenderOutput, RenderSettings, rel_mse, render_world,
 };
 use chiaro_scene::load_scene;
 use glam::Vec3;
+
+use common::mean;
 
 fn settings(integrator: Integrator, spp: u32, seed: u64, threads: Option<usize>) -> RenderSettings {
     RenderSettings {
@@ -29,10 +33,6 @@ fn render(spec: &str, settings: &RenderSettings) -> RenderOutput {
     let out = render_world(&mut world, settings, false).unwrap();
     assert_eq!(out.non_finite_samples, 0, "{spec}");
     out
-}
-
-fn mean(image: &[Vec3]) -> f64 {
-    image.iter().map(|p| (p.x + p.y + p.z) as f64).sum::<f64>() / (3 * image.len()) as f64
 }
 
 /// Against the path tracer: their relMSE is within 2.5 times what their own noise explains

@@ -1,6 +1,8 @@
 //! Owen-scrambled Sobol samples against independent ones: the same image (unbiased), less noise
 //! at equal samples, for the path tracer and the bidirectional tracer alike.
 
+mod common;
+
 use bevy_ecs::world::World;
 use chiaro_reference::{
     Integrator, PathSettings, RenderOutput, RenderSettings, Sampler, render_world,
@@ -11,32 +13,12 @@ use chiaro_scene::{
 };
 use glam::Vec3;
 
+use common::{mean, standard_error};
+
 fn render(spec: &str, settings: RenderSettings) -> RenderOutput {
     let mut world = World::new();
     load_scene(&mut world, spec).unwrap();
     render_world(&mut world, &settings, false).unwrap()
-}
-
-/// The mean of every channel of every pixel, and its standard error from the two independent
-/// halves (Var(full) = E[(half0 - half1)^2] / 4 per pixel).
-fn mean_and_error(out: &RenderOutput) -> (f64, f64) {
-    let n = (3 * out.image.len()) as f64;
-    let mean = out
-        .image
-        .iter()
-        .map(|p| (p.x + p.y + p.z) as f64)
-        .sum::<f64>()
-        / n;
-    let [a, b] = &out.halves;
-    let variance: f64 = a
-        .iter()
-        .zip(b)
-        .map(|(x, y)| {
-            let d = (*x - *y) / 3.0;
-            ((d.x + d.y + d.z) as f64).powi(2) / 4.0
-        })
-        .sum();
-    (mean, variance.sqrt() / out.image.len() as f64)
 }
 
 /// Renders `scene` with both samplers and checks that their means agree within four standard
@@ -60,8 +42,8 @@ fn compare(scene: &str, integrator: Integrator, spp: u32, ratio: f64) -> (f64, f
     let sobol = render(scene, settings(Sampler::Sobol));
     let independent = render(scene, settings(Sampler::Independent));
     assert_eq!(sobol.non_finite_samples, 0);
-    let ((a, sa), (b, sb)) = (mean_and_error(&sobol), mean_and_error(&independent));
-    let se = (sa * sa + sb * sb).sqrt();
+    let (a, b) = (mean(&sobol.image), mean(&independent.image));
+    let se = (standard_error(&sobol).powi(2) + standard_error(&independent).powi(2)).sqrt();
     assert!(
         (a - b).abs() < 4.0 * se,
         "{scene} {integrator}: mean {a} with sobol, {b} independent, standard error {se}"
