@@ -1,7 +1,8 @@
 //! Embedding chiaro in a bevy_ecs app that owns its main loop: the app keeps its own World and
 //! Schedule, adds chiaro's systems (transform propagation, BVH upkeep, GPU upload) to that
 //! schedule beside its own, animates its entities with its own system, and asks chiaro for one
-//! offscreen frame per loop iteration, written as PNG.
+//! offscreen frame per loop iteration, written as PNG: each image is read back without
+//! waiting, and saved once it is there, so the frames stay in flight.
 //!
 //! `cargo run --release --example embed_in_ecs -- [OUT_DIR] [FRAMES]` (default `embed_frames`,
 //! 8 frames of 256x256).
@@ -10,6 +11,7 @@
 //! under the ceiling; the frames show the light and its shadows going round. What the frame
 //! computes is the world's `FrameSettings` resource, which the app could edit like any other.
 
+use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
@@ -92,19 +94,32 @@ pub fn run_app(
         std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     }
     let mut images = Vec::new();
-    for frame in 0..frames {
-        world.resource_mut::<FrameCount>().0 = frame;
-        schedule.run(&mut world);
-        renderer.render_frame(&mut world, &settings)?;
-        let image = renderer.read(&settings)?;
+    let mut keep = |image: RenderOutput| -> Result<()> {
         if let Some(dir) = out {
-            let path = dir.join(format!("frame_{frame:03}.png"));
+            let path = dir.join(format!("frame_{:03}.png", images.len()));
             image::RgbaImage::from_raw(size, size, image.ldr.clone())
                 .context("image size")?
                 .save(&path)
                 .with_context(|| format!("cannot write {}", path.display()))?;
         }
         images.push(image);
+        Ok(())
+    };
+    // Each frame's image is copied on the GPU after it and taken once it is there, so the
+    // frames stay in flight while the app saves them.
+    let mut pending = VecDeque::new();
+    for frame in 0..frames {
+        world.resource_mut::<FrameCount>().0 = frame;
+        schedule.run(&mut world);
+        renderer.render_frame(&mut world, &settings)?;
+        pending.push_back(renderer.read_later(&settings)?);
+        let device = &renderer.context.device;
+        while pending.front().is_some_and(|p| p.ready(device)) {
+            keep(pending.pop_front().expect("a pending image").wait(device)?)?;
+        }
+    }
+    for image in pending {
+        keep(image.wait(&renderer.context.device)?)?;
     }
     Ok(images)
 }

@@ -120,6 +120,18 @@ pub struct TimeArgs {
     pub time: Option<f64>,
 }
 
+/// `--frames-in-flight`: how many frames the CPU may have submitted before it waits for the
+/// GPU (1 waits for every frame; see `chiaro::gpu::in_flight`).
+#[derive(Clone, Copy, Debug, clap::Args)]
+pub struct FramesInFlightArgs {
+    /// Frames the GPU may have in flight, 1..=3: with 2 the CPU prepares the next frame while
+    /// the GPU renders one; 1 waits for each (lowest latency). Wall-clock pass timing
+    /// (CHIARO_TIMER=wall, or a device without timestamps) keeps it at 1.
+    #[arg(long, default_value_t = chiaro::gpu::DEFAULT_FRAMES_IN_FLIGHT,
+          value_parser = clap::value_parser!(u32).range(1..=chiaro::gpu::MAX_FRAMES_IN_FLIGHT as i64))]
+    pub frames_in_flight: u32,
+}
+
 /// `--fps`: a frame rate in `0.001..=10000`.
 pub fn frame_rate(text: &str) -> Result<f64, String> {
     match text.trim().parse::<f64>() {

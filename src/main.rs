@@ -129,6 +129,8 @@ enum Command {
         /// Seed of the random numbers.
         #[arg(long, default_value_t = 0)]
         seed: u64,
+        #[command(flatten)]
+        frames_in_flight: args::FramesInFlightArgs,
     },
     /// Render the converged ground truth with the CPU reference path tracer: an EXR (linear) and
     /// a PNG (tonemapped) beside it, plus the EXR of an independent half of the samples.
@@ -365,6 +367,7 @@ fn main() -> Result<()> {
             out,
             frame,
             seed,
+            frames_in_flight,
         } => {
             let scene = SceneArgs {
                 scene,
@@ -384,6 +387,7 @@ fn main() -> Result<()> {
                 frame.settings(),
                 seed,
                 animation,
+                frames_in_flight.frames_in_flight,
             )
         }
         Command::Compare(args) => compare::run(&args),

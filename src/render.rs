@@ -1,5 +1,6 @@
 //! `chiaro render`: the GPU frame of a scene, accumulated over frames (with `--animate`, the
-//! animation time advancing per frame), written as PNG or EXR, with the passes' times.
+//! animation time advancing per frame), written as PNG or EXR, with the throughput, the
+//! frames' latency and the passes' times.
 
 use std::path::Path;
 use std::time::Instant;
@@ -11,7 +12,8 @@ use chiaro::reference::write_exr;
 use super::{MemoryArgs, SceneArgs, load};
 
 /// Renders `args`' scene on the GPU; with `animation` (frames per second) each frame advances
-/// the animation time by 1 / fps from `--time`.
+/// the animation time by 1 / fps from `--time`; up to `frames_in_flight` frames run on the GPU
+/// at once.
 #[allow(clippy::too_many_arguments)]
 pub fn run(
     args: &SceneArgs,
@@ -22,6 +24,7 @@ pub fn run(
     frame: FrameSettings,
     seed: u64,
     animation: Option<f64>,
+    frames_in_flight: u32,
 ) -> Result<()> {
     let exr = match out.extension().and_then(|e| e.to_str()) {
         Some("exr") => true,
@@ -36,6 +39,7 @@ pub fn run(
     let context = chiaro::gpu::GpuContext::new_headless()?;
     let adapter = context.describe();
     let mut renderer = chiaro::gpu::Renderer::new(context);
+    renderer.set_frames_in_flight(frames_in_flight);
     let settings = chiaro::gpu::RenderSettings {
         width: size.0,
         height: size.1,
@@ -45,8 +49,10 @@ pub fn run(
     };
     let start = Instant::now();
     let start_time = args.time.time.unwrap_or(0.0);
+    let mut frame_starts = Vec::new();
     let output = renderer
         .render_with(&mut world, &settings, |world, k| {
+            frame_starts.push(Instant::now());
             if let Some(fps) = animation {
                 world.insert_resource(chiaro::scene::Time {
                     seconds: start_time + f64::from(k) / fps,
@@ -103,6 +109,28 @@ pub fn run(
             .unwrap_or_default()
     );
     let timed = &output.times[output.times.len() / 2..];
+    let median = |pick: fn(&chiaro::gpu::PassTimes) -> f64| {
+        let mut ms: Vec<f64> = timed.iter().map(pick).collect();
+        ms.sort_by(f64::total_cmp);
+        ms.get(ms.len() / 2).copied().unwrap_or(0.0)
+    };
+    // Throughput from the starts of the second half's frames, which the frames in flight pace:
+    // neither the first frame's pipelines nor the last one's wait and readback count.
+    let steady = &frame_starts[frame_starts.len() / 2..];
+    let throughput = match steady {
+        [first, .., last] if last > first => format!(
+            "{:.1} frames/s",
+            (steady.len() - 1) as f64 / last.duration_since(*first).as_secs_f64()
+        ),
+        _ => "not measured (too few frames)".into(),
+    };
+    println!(
+        "throughput {throughput}, latency {:.2} ms, CPU to submit {:.2} ms (medians over the \
+         last half, up to {} frames in flight)",
+        median(|t| t.wall_ms),
+        median(|t| t.submit_ms),
+        renderer.frames_in_flight(),
+    );
     let clock = match timed.first() {
         Some(t) if t.gpu_timestamps => "GPU timestamps",
         _ => "wall clock",

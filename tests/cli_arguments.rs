@@ -45,6 +45,13 @@ fn numbers_that_mean_nothing_are_refused_by_argument() {
         "--frames",
         "not in 1..=1000000",
     );
+    for bad in ["0", "4"] {
+        refused(
+            &["render", "--frames-in-flight", bad],
+            "--frames-in-flight",
+            "not in 1..=3",
+        );
+    }
     refused(
         &["render", "--firefly-clamp", "nan"],
         "--firefly-clamp",

@@ -17,6 +17,8 @@ fn render_writes_png_and_exr() {
         "--size",
         "24x16",
         "--frames",
+        "6",
+        "--frames-in-flight",
         "2",
         "--out",
         png.to_str().unwrap(),
@@ -30,8 +32,20 @@ fn render_writes_png_and_exr() {
         String::from_utf8_lossy(&out.stderr)
     );
     let text = String::from_utf8(out.stdout).unwrap();
-    assert!(text.contains("24x16, 2 frames"), "{text}");
+    assert!(text.contains("24x16, 6 frames"), "{text}");
     assert!(text.contains("direct"), "{text}");
+    // Throughput from the last three frames' starts; latency and submission as medians.
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("throughput "))
+        .unwrap_or("");
+    let number = |after: &str| -> f64 {
+        let rest = &line[line.find(after).unwrap_or_else(|| panic!("{text}")) + after.len()..];
+        rest.split_whitespace().next().unwrap().parse().unwrap()
+    };
+    assert!(number("throughput ") > 0.0, "{text}");
+    assert!(number("latency ") > 0.0, "{text}");
+    assert!(line.contains("frames in flight"), "{text}");
     let image = image::open(&png).unwrap().into_rgba8();
     assert_eq!(image.dimensions(), (24, 16));
     // The lit box is neither black nor white.

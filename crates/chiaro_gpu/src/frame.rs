@@ -19,6 +19,7 @@ use crate::context::GpuContext;
 use crate::denoiser::Denoiser;
 use crate::gpu_scene::GpuScene;
 use crate::gpu_scene::back_faces::CullView;
+use crate::in_flight::{FramesInFlight, SubmittedFrame};
 use crate::passes::composite::{
     COMPOSITE_DIRECT, COMPOSITE_FILTERED, COMPOSITE_PATHS, COMPOSITE_RESET, COMPOSITE_RESOLVE,
     CompositeParams, CompositePass,
@@ -32,7 +33,7 @@ use crate::shaders::ShaderError;
 use crate::specialization::PipelineFeatures;
 use crate::still_view::{Stillness, history_weights};
 use crate::targets::FrameTargets;
-use crate::timing::{PassTimer, PassTimes};
+use crate::timing::{PassClock, PassTimer, PassTimes};
 
 /// A pass of the frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -115,6 +116,9 @@ pub struct FrameInput {
     /// Whether a pipeline for new features is built on another thread while the old one
     /// renders (an interactive app), rather than before the frame (exact images).
     pub background_compile: bool,
+    /// The most frames running on the GPU when the frame's submission returns plus one
+    /// (1: every frame is waited for; see [`crate::in_flight`]).
+    pub frames_in_flight: u32,
 }
 
 /// A parameter buffer (read-only storage; see [`crate::passes::params`]) of `size` bytes.
@@ -125,14 +129,6 @@ fn params_buffer(device: &wgpu::Device, label: &str, size: usize) -> wgpu::Buffe
         usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     })
-}
-
-/// Whether pass times come from GPU timestamps: when the device has them, unless the
-/// environment variable `CHIARO_TIMER` is `wall` (some drivers, lavapipe among them, write
-/// timestamps that do not bracket the pass's work; the wall clock around each pass submitted
-/// alone and waited for does).
-fn use_timestamps(context: &GpuContext) -> bool {
-    context.timestamps && std::env::var("CHIARO_TIMER").map_or(true, |v| v != "wall")
 }
 
 /// The passes that read the scene (G-buffer, direct, indirect), each with its pipelines for
@@ -210,6 +206,7 @@ pub struct Frame {
     resolve_parity: usize,
     tonemap_group: wgpu::BindGroup,
     timer: PassTimer,
+    in_flight: FramesInFlight,
     /// See [`Frame::features`].
     features: Option<PipelineFeatures>,
 }
@@ -256,7 +253,13 @@ impl Frame {
             }),
             resolve_parity: 0,
             tonemap_group: tonemap.bind_group(device, &targets, &tonemap_params),
-            timer: PassTimer::new(device, &context.queue, use_timestamps(context), MAX_PASSES),
+            timer: PassTimer::new(
+                device,
+                &context.queue,
+                PassClock::from_env(context.timestamps),
+                MAX_PASSES,
+            ),
+            in_flight: FramesInFlight::default(),
             features: None,
             targets,
             scene_passes,
@@ -366,15 +369,15 @@ impl Frame {
         self.denoised = denoised;
     }
 
-    /// Records `pass`, timed as the `index`th of the frame, for the camera `view` (the
-    /// G-buffer's back-face test).
+    /// Records `pass`, timed as the `index`th of the frame in timestamp slot `slot`, for the
+    /// camera `view` (the G-buffer's back-face test).
     fn record(
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
         scene: &GpuScene,
         view: Option<CullView>,
         pass: Pass,
-        index: u32,
+        (slot, index): (usize, u32),
     ) {
         let t = &self.targets;
         let timer = &self.timer;
@@ -385,87 +388,107 @@ impl Frame {
                 &self.camera_group,
                 view,
                 t,
-                timer.render(index),
+                timer.render(slot, index),
             ),
             Pass::Direct => self.scene_passes.direct.record(
                 encoder,
                 scene,
                 &self.direct_group,
                 t,
-                timer.compute(index),
+                timer.compute(slot, index),
             ),
             Pass::Indirect => self.scene_passes.indirect.record(
                 encoder,
                 scene,
                 &self.indirect_group,
                 t,
-                timer.compute(index),
+                timer.compute(slot, index),
             ),
             Pass::Temporal => self
                 .denoiser
-                .record_temporal(encoder, t, timer.compute(index)),
+                .record_temporal(encoder, t, timer.compute(slot, index)),
             Pass::Variance => self
                 .denoiser
-                .record_variance(encoder, t, timer.compute(index)),
+                .record_variance(encoder, t, timer.compute(slot, index)),
             Pass::Atrous => self
                 .denoiser
-                .record_atrous(encoder, t, timer.compute(index)),
+                .record_atrous(encoder, t, timer.compute(slot, index)),
             Pass::Composite => {
                 let group = &self.composite_groups[self.resolve_parity];
                 self.composite
-                    .record(encoder, group, t, timer.compute(index));
+                    .record(encoder, group, t, timer.compute(slot, index));
                 self.resolve_parity = 1 - self.resolve_parity;
             }
             Pass::Tonemap => {
                 self.tonemap
-                    .record(encoder, &self.tonemap_group, t, timer.compute(index))
+                    .record(encoder, &self.tonemap_group, t, timer.compute(slot, index))
             }
         }
     }
 
-    /// Renders one frame of `scene` seen by `camera` and returns the time of each pass.
+    /// Submits one frame of `scene` seen by `camera` and returns the pass times of the frames
+    /// the GPU has finished since the last call, oldest first: this one among them only when
+    /// `input.frames_in_flight` is 1 or the passes are timed by the wall clock, which waits
+    /// for each. Otherwise it returns once at most `frames_in_flight - 1` frames are running
+    /// besides this one, so the CPU prepares the next frame while the GPU renders this one.
     pub fn render(
         &mut self,
         context: &GpuContext,
         scene: &GpuScene,
         camera: &GpuCamera,
         input: &FrameInput,
-    ) -> PassTimes {
+    ) -> Vec<PassTimes> {
         let (device, queue) = (&context.device, &context.queue);
         let start = std::time::Instant::now();
         self.features = self.scene_passes.specialize(device, input);
         let compile_ms = start.elapsed().as_secs_f64() * 1e3;
         self.write_params(queue, camera, input);
         let run = passes(&input.settings);
-        let gpu = self.timer.gpu();
+        let wall_clock = self.timer.clock() == PassClock::Wall;
+        let slot = self.in_flight.next_slot();
         let mut wall = Vec::new();
         let mut encoder = new_encoder(device);
         for (index, &pass) in run.iter().enumerate() {
-            if !gpu {
+            if wall_clock {
                 self.timer.start_wall();
             }
-            self.record(&mut encoder, scene, camera.cull_view(), pass, index as u32);
-            if !gpu {
+            let at = (slot, index as u32);
+            self.record(&mut encoder, scene, camera.cull_view(), pass, at);
+            if wall_clock {
                 queue.submit([std::mem::replace(&mut encoder, new_encoder(device)).finish()]);
                 wall.push(self.timer.stop_wall(device));
             }
         }
-        let count = run.len() as u32;
-        self.timer.resolve(&mut encoder, count);
-        queue.submit([encoder.finish()]);
-        let millis = if gpu {
-            self.timer
-                .read(device, count)
-                .unwrap_or_else(|| vec![0.0; run.len()])
-        } else {
-            wall
-        };
-        PassTimes {
-            passes: run.iter().map(|p| p.name()).zip(millis).collect(),
-            gpu_timestamps: gpu,
+        self.timer.resolve(&mut encoder, slot, run.len() as u32);
+        let submission = queue.submit([encoder.finish()]);
+        let frame = SubmittedFrame {
+            frame: input.frame,
+            slot,
+            passes: run.iter().map(|p| p.name()).collect(),
+            start,
             compile_ms,
-            wall_ms: start.elapsed().as_secs_f64() * 1e3,
-        }
+            submit_ms: start.elapsed().as_secs_f64() * 1e3,
+            wall: wall_clock.then_some(wall),
+        };
+        self.in_flight
+            .submitted(queue, &self.timer, frame, submission);
+        let limit = if wall_clock {
+            1
+        } else {
+            input.frames_in_flight
+        };
+        let keep = limit.clamp(1, crate::in_flight::MAX_FRAMES_IN_FLIGHT) as usize - 1;
+        self.in_flight.collect(device, &self.timer, keep)
+    }
+
+    /// Waits for every frame in flight and returns their pass times, oldest first.
+    pub fn finish(&mut self, device: &wgpu::Device) -> Vec<PassTimes> {
+        self.in_flight.collect(device, &self.timer, 0)
+    }
+
+    /// Frames submitted whose times were not yet returned.
+    pub fn frames_running(&self) -> usize {
+        self.in_flight.running()
     }
 }
 

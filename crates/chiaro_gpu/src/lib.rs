@@ -2,8 +2,9 @@
 //! composition ([`shaders`]), the scene's buffers kept in step with the ECS world
 //! ([`gpu_scene`]), the passes ([`passes`]) run in order by [`frame`] as the mode in
 //! [`FrameSettings`] asks, and the headless [`Renderer`] that renders frames, for a World it
-//! updates itself or for an app that runs chiaro's systems in its own schedule, and reads the
-//! images back; [`still_view`] lets a still image converge.
+//! updates itself or for an app that runs chiaro's systems in its own schedule, with frames in
+//! flight ([`in_flight`]), and reads the images back; [`still_view`] lets a still image
+//! converge.
 //!
 //! It runs on any adapter wgpu offers, CPU rasterizers such as lavapipe included: rays are
 //! traversed in compute shaders over the BVHs `chiaro_bvh` builds, with no hardware ray tracing.
@@ -32,6 +33,7 @@ pub mod context;
 pub mod denoiser;
 pub mod frame;
 pub mod gpu_scene;
+pub mod in_flight;
 pub mod passes;
 pub mod readback;
 pub mod renderer;
@@ -45,8 +47,10 @@ pub mod timing;
 pub use context::{ContextError, GpuContext};
 pub use denoiser::Denoiser;
 pub use gpu_scene::{GpuScene, UploadStats, add_gpu_scene_systems, upload_gpu_scene};
+pub use in_flight::{DEFAULT_FRAMES_IN_FLIGHT, MAX_FRAMES_IN_FLIGHT};
+pub use readback::PendingImage;
 pub use renderer::{GbufferImage, RenderError, RenderOutput, RenderSettings, Renderer};
 pub use settings::{DenoiseSettings, FrameSettings, RenderMode, SettingsError};
 pub use shaders::{ShaderError, compose};
 pub use specialization::{PipelineChoice, PipelineFeatures};
-pub use timing::{PassTimes, SetupTimes};
+pub use timing::{PassClock, PassTimes, SetupTimes};

@@ -2,7 +2,9 @@
 //! 8-bit image, frame after frame with fresh random numbers and a fresh sub-pixel point per
 //! frame. In the accumulating modes (direct, reference, naive) the image is the mean of the
 //! frames since the camera, the scene or the settings last changed, so it converges to the CPU
-//! reference's estimate; in the realtime mode the temporal pass keeps the history.
+//! reference's estimate; in the realtime mode the temporal pass keeps the history. Frames are
+//! submitted without waiting for the GPU ([`crate::in_flight`]): by default the CPU prepares
+//! frame N+1 while the GPU renders frame N, and waits only to read an image back.
 
 use bevy_ecs::prelude::*;
 use chiaro_scene::SceneFeatures;
@@ -14,7 +16,8 @@ use crate::camera::{GpuCamera, NoCamera, active_camera};
 use crate::context::GpuContext;
 use crate::frame::{Frame, FrameInput, ScenePasses};
 use crate::gpu_scene::{GpuScene, add_gpu_scene_systems};
-use crate::readback::{ReadbackError, read_hdr, read_texture};
+use crate::in_flight::{DEFAULT_FRAMES_IN_FLIGHT, MAX_FRAMES_IN_FLIGHT};
+use crate::readback::{PendingImage, ReadbackError, read_hdr, read_texture, start_read};
 use crate::settings::{FrameSettings, LightSampling, SettingsError};
 use crate::shaders::ShaderError;
 use crate::still_view::Stillness;
@@ -94,7 +97,8 @@ pub struct RenderOutput {
     /// Frames in the image: accumulated since the last restart, or (realtime) rendered since
     /// the history last restarted.
     pub frames: u32,
-    /// Pass times of each frame.
+    /// Pass times of each frame ([`Renderer::render`]: all of its frames, in order;
+    /// [`Renderer::read`]: none).
     pub times: Vec<PassTimes>,
 }
 
@@ -167,10 +171,13 @@ pub struct Renderer {
     background_compile: bool,
     setup: Option<SetupTimes>,
     systems_seconds: f64,
+    frames_in_flight: u32,
+    /// Times of frames a replaced frame (another size or world) finished, not yet returned.
+    finished: Vec<PassTimes>,
 }
 
 impl Renderer {
-    /// A renderer on `context`.
+    /// A renderer on `context`, with [`DEFAULT_FRAMES_IN_FLIGHT`] frames in flight.
     pub fn new(context: GpuContext) -> Self {
         Self {
             context,
@@ -187,7 +194,43 @@ impl Renderer {
             background_compile: false,
             setup: None,
             systems_seconds: 0.0,
+            frames_in_flight: DEFAULT_FRAMES_IN_FLIGHT,
+            finished: Vec::new(),
         }
+    }
+
+    /// How many frames may be in flight (clamped to 1..=[`MAX_FRAMES_IN_FLIGHT`]; default
+    /// [`DEFAULT_FRAMES_IN_FLIGHT`]): a call that renders a frame returns once at most `n - 1`
+    /// earlier frames are still running on the GPU, so with 2 the CPU runs the scene systems
+    /// and records frame N+1 while the GPU renders frame N; 1 waits for every frame (lowest
+    /// latency, no overlap). Pass times taken by the wall clock ([`crate::PassClock::Wall`])
+    /// wait for every pass, so they keep one frame in flight whatever this says.
+    pub fn set_frames_in_flight(&mut self, n: u32) {
+        self.frames_in_flight = n.clamp(1, MAX_FRAMES_IN_FLIGHT);
+    }
+
+    /// The most frames in flight: as set ([`Renderer::set_frames_in_flight`]), or 1 where
+    /// the passes are timed by the wall clock.
+    pub fn frames_in_flight(&self) -> u32 {
+        match crate::timing::PassClock::from_env(self.context.timestamps) {
+            crate::timing::PassClock::Wall => 1,
+            _ => self.frames_in_flight,
+        }
+    }
+
+    /// Frames submitted whose pass times were not yet returned (they may have finished).
+    pub fn frames_running(&self) -> usize {
+        self.frame.as_ref().map_or(0, Frame::frames_running)
+    }
+
+    /// Waits for every frame in flight and returns the pass times not yet returned, oldest
+    /// first.
+    pub fn finish(&mut self) -> Vec<PassTimes> {
+        let mut times = std::mem::take(&mut self.finished);
+        if let Some(frame) = self.frame.as_mut() {
+            times.extend(frame.finish(&self.context.device));
+        }
+        times
     }
 
     /// Test hook: while on, the indirect pass writes NaN at pixel (0, 0) and +Inf at (1, 0),
@@ -224,7 +267,8 @@ impl Renderer {
     }
 
     /// Renders `settings.frames` frames of `world` from a fresh accumulation (and a fresh
-    /// denoiser history) and reads the images back.
+    /// denoiser history), waits for them, and reads the images back with their pass times
+    /// (frames numbered from 0 again; earlier frames' times not yet returned are dropped).
     pub fn render(
         &mut self,
         world: &mut World,
@@ -241,10 +285,13 @@ impl Renderer {
         settings: &RenderSettings,
         before_frame: impl FnMut(&mut World, u32),
     ) -> Result<RenderOutput, RenderError> {
+        self.finish();
         self.accumulated = 0;
         self.frame_index = 0;
         self.reset_history = true;
-        let times = self.accumulate_with(world, settings, settings.frames.max(1), before_frame)?;
+        let mut times =
+            self.accumulate_with(world, settings, settings.frames.max(1), before_frame)?;
+        times.extend(self.finish());
         let mut output = self.read(settings)?;
         output.times = times;
         Ok(output)
@@ -253,7 +300,9 @@ impl Renderer {
     /// Renders `frames` more frames of `world`, the scene systems running before each (edits
     /// show up). In the accumulating modes a frame whose camera, scene uploads or settings
     /// differ from the last one's restarts the mean. Another world than the last one, or
-    /// another size, restarts everything.
+    /// another size, restarts everything. Returns the pass times of the frames the GPU has
+    /// finished by then, oldest first, earlier calls' included: with frames in flight the last
+    /// ones come with a later call, or with [`Renderer::finish`].
     pub fn accumulate(
         &mut self,
         world: &mut World,
@@ -273,13 +322,13 @@ impl Renderer {
         self.prepare(world, settings, true)?;
         // Grown as frames finish, not reserved up front: a count of frames costs no memory
         // before they are drawn.
-        let mut times = Vec::new();
+        let mut times = std::mem::take(&mut self.finished);
         for k in 0..frames {
             before_frame(world, k);
             let start = std::time::Instant::now();
             self.schedule.run(world);
             self.systems_seconds = start.elapsed().as_secs_f64();
-            times.push(self.draw(world, settings)?);
+            times.extend(self.draw(world, settings)?);
         }
         Ok(times)
     }
@@ -303,12 +352,13 @@ impl Renderer {
     /// this frame, so this renders without running any system. When the world holds a
     /// [`FrameSettings`] resource, it decides what the frame computes (the app edits it like
     /// any other resource); otherwise `settings.frame` does. Read the image with
-    /// [`Renderer::read`].
+    /// [`Renderer::read`]. Returns the pass times of the frames the GPU has finished, as
+    /// [`Renderer::accumulate`] does.
     pub fn render_frame(
         &mut self,
         world: &mut World,
         settings: &RenderSettings,
-    ) -> Result<PassTimes, RenderError> {
+    ) -> Result<Vec<PassTimes>, RenderError> {
         let settings = RenderSettings {
             frame: world
                 .get_resource::<FrameSettings>()
@@ -317,7 +367,9 @@ impl Renderer {
             ..*settings
         };
         self.prepare(world, &settings, false)?;
-        self.draw(world, &settings)
+        let mut times = std::mem::take(&mut self.finished);
+        times.extend(self.draw(world, &settings)?);
+        Ok(times)
     }
 
     /// Checks the settings, gives the world its [`GpuScene`] and (re)makes the frame for a new
@@ -337,6 +389,8 @@ impl Renderer {
         self.attach(world);
         if self.world != Some(world.id()) {
             // A schedule's systems belong to one world: a new world gets new ones.
+            let finished = self.finish();
+            self.finished = finished;
             self.schedule = Self::schedule();
             self.world = Some(world.id());
             self.frame = None;
@@ -360,6 +414,8 @@ impl Renderer {
                 });
             }
             // A new size keeps the scene passes and every pipeline they compiled.
+            let finished = self.finish();
+            self.finished = finished;
             let scene_passes = match self.frame.take() {
                 Some(old) => old.into_scene_passes(),
                 None => ScenePasses::new(&self.context.device, world.resource::<GpuScene>())?,
@@ -371,8 +427,13 @@ impl Renderer {
         Ok(())
     }
 
-    /// Renders one frame of `world` as its systems left it.
-    fn draw(&mut self, world: &World, settings: &RenderSettings) -> Result<PassTimes, RenderError> {
+    /// Submits one frame of `world` as its systems left it; returns the times of the frames
+    /// the GPU finished meanwhile.
+    fn draw(
+        &mut self,
+        world: &World,
+        settings: &RenderSettings,
+    ) -> Result<Vec<PassTimes>, RenderError> {
         let (width, height) = (settings.width, settings.height);
         let (camera, global) = active_camera(world)?;
         let jitter = jitter(settings.seed, self.frame_index);
@@ -415,6 +476,7 @@ impl Renderer {
                 scene.light_trees() && settings.frame.light_sampling == LightSampling::Tree,
             ),
             background_compile: self.background_compile,
+            frames_in_flight: self.frames_in_flight,
         };
         let frame = self.frame.as_mut().ok_or(RenderError::NotRendered)?;
         let times = frame.render(&self.context, scene, &gpu_camera, &input);
@@ -479,20 +541,24 @@ impl Renderer {
         self.frame.as_ref()
     }
 
-    /// The accumulated images.
+    /// The accumulated images of the last frame submitted, after waiting for the GPU.
     pub fn read(&self, settings: &RenderSettings) -> Result<RenderOutput, RenderError> {
+        Ok(self.read_later(settings)?.wait(&self.context.device)?)
+    }
+
+    /// The accumulated images of the last frame submitted, copied on the GPU after it and
+    /// read back without waiting: rendering goes on, and the images are taken with
+    /// [`PendingImage::wait`] once [`PendingImage::ready`] says they are there (an app that
+    /// saves every frame keeps its frames in flight this way).
+    pub fn read_later(&self, settings: &RenderSettings) -> Result<PendingImage, RenderError> {
         let frame = self.frame.as_ref().ok_or(RenderError::NotRendered)?;
         let (device, queue) = (&self.context.device, &self.context.queue);
-        let hdr = read_hdr(device, queue, &frame.targets.hdr.texture)?;
-        let ldr = read_texture(device, queue, &frame.targets.ldr.texture, 4)?;
-        Ok(RenderOutput {
-            width: settings.width,
-            height: settings.height,
-            hdr,
-            ldr,
-            frames: self.accumulated,
-            times: Vec::new(),
-        })
+        Ok(PendingImage::new(
+            start_read(device, queue, &frame.targets.hdr.texture, 16),
+            start_read(device, queue, &frame.targets.ldr.texture, 4),
+            (settings.width, settings.height),
+            self.accumulated,
+        ))
     }
 }
 

@@ -338,7 +338,12 @@ impl App {
             frame: *self.world.resource::<FrameSettings>(),
         };
         match display.renderer.accumulate(&mut self.world, &render, 1) {
-            Ok(mut times) => self.times = times.pop().unwrap_or_default(),
+            // The latest frame the GPU finished; with frames in flight, one or two behind.
+            Ok(mut times) => {
+                if let Some(latest) = times.pop() {
+                    self.times = latest;
+                }
+            }
             Err(e) => {
                 let message = format!("cannot render: {e}");
                 if self.message.as_deref() != Some(message.as_str()) {

@@ -332,9 +332,22 @@ fn measure(
     // that they take no cores from the frames being timed.
     let in_background = !renderer.context.runs_on_cpu();
     let mut frame_ms = Vec::new();
+    let mut latency_ms = Vec::new();
     let mut pass_ms: Vec<(String, Vec<f64>)> = Vec::new();
     let mut gpu_timestamps = false;
     let mut seconds = 0.0;
+    let mut add_times = |times: Vec<chiaro_gpu::PassTimes>| {
+        for t in times {
+            gpu_timestamps = t.gpu_timestamps;
+            latency_ms.push(t.wall_ms);
+            for (i, (name, ms)) in t.passes.iter().enumerate() {
+                match pass_ms.get_mut(i) {
+                    Some((_, all)) => all.push(*ms),
+                    None => pass_ms.push(((*name).to_owned(), vec![*ms])),
+                }
+            }
+        }
+    };
     let last = settings.checkpoints.last().copied().unwrap_or(1);
     let checkpoints = std::thread::scope(|scope| -> Result<Vec<Checkpoint>, BenchError> {
         let mut pending = Vec::new();
@@ -359,16 +372,12 @@ fn measure(
             let elapsed = start.elapsed().as_secs_f64();
             seconds += elapsed;
             frame_ms.push(elapsed * 1e3);
-            for t in &times {
-                gpu_timestamps = t.gpu_timestamps;
-                for (i, (name, ms)) in t.passes.iter().enumerate() {
-                    match pass_ms.get_mut(i) {
-                        Some((_, all)) => all.push(*ms),
-                        None => pass_ms.push(((*name).to_owned(), vec![*ms])),
-                    }
-                }
-            }
+            add_times(times);
             if let Some(k) = settings.checkpoints.iter().position(|c| *c == frame) {
+                // The frames still in flight count towards the time the image took.
+                let drain = Instant::now();
+                add_times(renderer.finish());
+                seconds += drain.elapsed().as_secs_f64();
                 let output = renderer.read(&render)?;
                 let image = HdrImage::new(&config.name, output.width, output.height, output.hdr)?;
                 let reference = references[k];
@@ -396,6 +405,8 @@ fn measure(
     Ok(RunResult {
         config: config.name.clone(),
         median_frame_ms: median(&mut frame_ms),
+        median_latency_ms: median(&mut latency_ms),
+        frames_per_second: f64::from(last) / seconds.max(f64::MIN_POSITIVE),
         pass_ms: pass_ms
             .into_iter()
             .map(|(name, mut all)| (name, median(&mut all)))
@@ -484,6 +495,7 @@ pub fn run_bench(
         rel_mse_epsilon: CompareSettings::default().rel_mse_epsilon,
         flip_tonemapping: "Khronos PBR Neutral, exposure 1, 67 pixels per degree".into(),
         reference_renderer: settings.reference_renderer.name(),
+        frames_in_flight: renderer.frames_in_flight(),
         scenes: Vec::new(),
     };
     for scene in scenes {

@@ -20,6 +20,9 @@ pub struct BenchResults {
     pub flip_tonemapping: String,
     /// What drew the converged references ([`super::ReferenceRenderer::name`]).
     pub reference_renderer: String,
+    /// The most frames the renderer kept in flight
+    /// ([`chiaro_gpu::Renderer::set_frames_in_flight`]).
+    pub frames_in_flight: u32,
     /// Per scene.
     pub scenes: Vec<SceneResult>,
 }
@@ -48,7 +51,8 @@ pub struct SceneResult {
 pub struct AnimationRun {
     /// Frames per second of scene time.
     pub fps: f64,
-    /// Wall time per frame (scene systems, recording, submission, completion), percentiles,
+    /// Wall time from one frame's start to the next's (scene systems, recording, submission,
+    /// and the wait for the GPU once the frames in flight are at their limit), percentiles,
     /// milliseconds.
     pub frame_ms_p50: f64,
     /// The 95th percentile.
@@ -122,8 +126,16 @@ impl AnimationRun {
 pub struct RunResult {
     /// The configuration's name.
     pub config: String,
-    /// Median wall time of one frame (recording, submission and completion), milliseconds.
+    /// Median wall time from one frame's start on the CPU to the next's, milliseconds: with
+    /// frames in flight, what the GPU takes per frame once the pipeline is full (1 / the
+    /// throughput); with one in flight, the frame's latency.
     pub median_frame_ms: f64,
+    /// Median latency of a frame, from its start on the CPU to the CPU seeing it finished,
+    /// milliseconds ([`chiaro_gpu::PassTimes::wall_ms`]).
+    pub median_latency_ms: f64,
+    /// Frames per second over the run: its frames over the wall time they took, the frames
+    /// in flight at each checkpoint waited for (the image readbacks left out).
+    pub frames_per_second: f64,
     /// Median time of each pass, milliseconds, in frame order.
     pub pass_ms: Vec<(String, f64)>,
     /// True when the pass times are GPU timestamps, false when wall clock.
@@ -215,15 +227,18 @@ impl BenchResults {
     pub fn to_markdown(&self) -> String {
         let mut md = format!(
             "Adapter: {}; driver: {}; {}x{}. Error: relMSE (linear HDR, epsilon {}) and mean \
-             LDR-FLIP ({}) against the converged reference ({}), static camera; time: median \
-             wall time per frame, and per pass (ms).\n",
+             LDR-FLIP ({}) against the converged reference ({}), static camera; time, with up \
+             to {} frames in flight: frame, the median wall time from one frame's start to the \
+             next's (1 / throughput once the GPU is busy); latency, the median from a frame's \
+             start to its end; fps, frames over the run's time; and per pass (ms).\n",
             self.adapter,
             self.driver,
             self.width,
             self.height,
             self.rel_mse_epsilon,
             self.flip_tonemapping,
-            self.reference_renderer
+            self.reference_renderer,
+            self.frames_in_flight,
         );
         for scene in &self.scenes {
             md += &format!(
@@ -235,15 +250,18 @@ impl BenchResults {
                 .first()
                 .map(|r| r.checkpoints.iter().map(|c| c.frames).collect())
                 .unwrap_or_default();
-            md += "| config | frame (ms) |";
+            md += "| config | frame (ms) | latency (ms) | fps |";
             for f in &frames {
                 md += &format!(" relMSE @{f} | FLIP @{f} |");
             }
-            md += " passes (ms) |\n|---|---|";
+            md += " passes (ms) |\n|---|---|---|---|";
             md += &"---|---|".repeat(frames.len());
             md += "---|\n";
             for run in &scene.runs {
-                md += &format!("| {} | {:.2} |", run.config, run.median_frame_ms);
+                md += &format!(
+                    "| {} | {:.2} | {:.2} | {:.1} |",
+                    run.config, run.median_frame_ms, run.median_latency_ms, run.frames_per_second
+                );
                 for c in &run.checkpoints {
                     md += &format!(" {:.3e} | {:.4} |", c.rel_mse, c.flip_mean);
                 }
@@ -296,6 +314,8 @@ mod tests {
         RunResult {
             config: "x".into(),
             median_frame_ms: 1.0,
+            median_latency_ms: 1.0,
+            frames_per_second: 1000.0,
             pass_ms: vec![("direct".into(), 1.0)],
             gpu_timestamps: false,
             checkpoints: points
@@ -331,6 +351,7 @@ mod tests {
             rel_mse_epsilon: 0.01,
             flip_tonemapping: "t".into(),
             reference_renderer: "CPU reference".into(),
+            frames_in_flight: 2,
             scenes: vec![SceneResult {
                 scene: "builtin:cornell".into(),
                 reference_spp: 4,
