@@ -125,11 +125,20 @@ pub struct TimeArgs {
 #[derive(Clone, Copy, Debug, clap::Args)]
 pub struct FramesInFlightArgs {
     /// Frames the GPU may have in flight, 1..=3: with 2 the CPU prepares the next frame while
-    /// the GPU renders one; 1 waits for each (lowest latency). Wall-clock pass timing
-    /// (CHIARO_TIMER=wall, or a device without timestamps) keeps it at 1.
-    #[arg(long, default_value_t = chiaro::gpu::DEFAULT_FRAMES_IN_FLIGHT,
-          value_parser = clap::value_parser!(u32).range(1..=chiaro::gpu::MAX_FRAMES_IN_FLIGHT as i64))]
-    pub frames_in_flight: u32,
+    /// the GPU renders one; 1 waits for each (lowest latency). By default 2 on a GPU and 1 on
+    /// a CPU adapter (lavapipe, llvmpipe), which runs one submission at a time. Wall-clock
+    /// pass timing (CHIARO_TIMER=wall, or a device without timestamps) keeps it at 1.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=chiaro::gpu::MAX_FRAMES_IN_FLIGHT as i64))]
+    pub frames_in_flight: Option<u32>,
+}
+
+impl FramesInFlightArgs {
+    /// Sets the renderer's frames in flight where the option was given.
+    pub fn apply(&self, renderer: &mut chiaro::gpu::Renderer) {
+        if let Some(n) = self.frames_in_flight {
+            renderer.set_frames_in_flight(n);
+        }
+    }
 }
 
 /// `--fps`: a frame rate in `0.001..=10000`.

@@ -131,7 +131,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let context = chiaro::gpu::GpuContext::new_headless()?;
     eprintln!("adapter: {}", context.describe());
     let mut renderer = chiaro::gpu::Renderer::new(context);
-    renderer.set_frames_in_flight(args.frames_in_flight.frames_in_flight);
+    args.frames_in_flight.apply(&mut renderer);
     let path_steps = usize::from(settings.camera_path);
     let bar = ProgressBar::new((scenes.len() * (configs.len() + 1 + path_steps)) as u64);
     bar.set_style(

@@ -387,7 +387,7 @@ fn main() -> Result<()> {
                 frame.settings(),
                 seed,
                 animation,
-                frames_in_flight.frames_in_flight,
+                &frames_in_flight,
             )
         }
         Command::Compare(args) => compare::run(&args),

@@ -12,8 +12,8 @@ use chiaro::reference::write_exr;
 use super::{MemoryArgs, SceneArgs, load};
 
 /// Renders `args`' scene on the GPU; with `animation` (frames per second) each frame advances
-/// the animation time by 1 / fps from `--time`; up to `frames_in_flight` frames run on the GPU
-/// at once.
+/// the animation time by 1 / fps from `--time`, with the frames in flight `frames_in_flight`
+/// asks for.
 #[allow(clippy::too_many_arguments)]
 pub fn run(
     args: &SceneArgs,
@@ -24,7 +24,7 @@ pub fn run(
     frame: FrameSettings,
     seed: u64,
     animation: Option<f64>,
-    frames_in_flight: u32,
+    frames_in_flight: &crate::args::FramesInFlightArgs,
 ) -> Result<()> {
     let exr = match out.extension().and_then(|e| e.to_str()) {
         Some("exr") => true,
@@ -39,7 +39,7 @@ pub fn run(
     let context = chiaro::gpu::GpuContext::new_headless()?;
     let adapter = context.describe();
     let mut renderer = chiaro::gpu::Renderer::new(context);
-    renderer.set_frames_in_flight(frames_in_flight);
+    frames_in_flight.apply(&mut renderer);
     let settings = chiaro::gpu::RenderSettings {
         width: size.0,
         height: size.1,

@@ -9,8 +9,8 @@ use std::time::Instant;
 
 use crate::timing::{PassTimer, PassTimes, TIMER_SLOTS};
 
-/// Frames the renderer keeps in flight unless told otherwise
-/// ([`crate::Renderer::set_frames_in_flight`]).
+/// Frames the renderer keeps in flight on a GPU unless told otherwise
+/// ([`crate::Renderer::new`], [`crate::Renderer::set_frames_in_flight`]).
 pub const DEFAULT_FRAMES_IN_FLIGHT: u32 = 2;
 
 /// The most frames in flight (one timestamp slot each).

@@ -177,8 +177,16 @@ pub struct Renderer {
 }
 
 impl Renderer {
-    /// A renderer on `context`, with [`DEFAULT_FRAMES_IN_FLIGHT`] frames in flight.
+    /// A renderer on `context`, with [`DEFAULT_FRAMES_IN_FLIGHT`] frames in flight on a GPU
+    /// and one on a CPU adapter (lavapipe, llvmpipe): there a submission runs only once the
+    /// one before has finished, so a second frame in flight doubles the latency for at most a
+    /// few percent of throughput (`docs/experiments/frames-in-flight.md`).
     pub fn new(context: GpuContext) -> Self {
+        let frames_in_flight = if context.runs_on_cpu() {
+            1
+        } else {
+            DEFAULT_FRAMES_IN_FLIGHT
+        };
         Self {
             context,
             schedule: Self::schedule(),
@@ -194,13 +202,13 @@ impl Renderer {
             background_compile: false,
             setup: None,
             systems_seconds: 0.0,
-            frames_in_flight: DEFAULT_FRAMES_IN_FLIGHT,
+            frames_in_flight,
             finished: Vec::new(),
         }
     }
 
-    /// How many frames may be in flight (clamped to 1..=[`MAX_FRAMES_IN_FLIGHT`]; default
-    /// [`DEFAULT_FRAMES_IN_FLIGHT`]): a call that renders a frame returns once at most `n - 1`
+    /// How many frames may be in flight (clamped to 1..=[`MAX_FRAMES_IN_FLIGHT`]; the default
+    /// is [`Renderer::new`]'s): a call that renders a frame returns once at most `n - 1`
     /// earlier frames are still running on the GPU, so with 2 the CPU runs the scene systems
     /// and records frame N+1 while the GPU renders frame N; 1 waits for every frame (lowest
     /// latency, no overlap). Pass times taken by the wall clock ([`crate::PassClock::Wall`])
