@@ -295,6 +295,33 @@ struct FrameArgs {
     #[arg(long, default_value_t = 0.0, value_parser = args::exposure_stops,
           allow_negative_numbers = true)]
     exposure: f32,
+    /// How the G-buffer finds the surface each pixel sees: raster (triangles drawn with a
+    /// depth test), traced (a camera ray per pixel through the BVHs, in a compute pass;
+    /// rasterized where the adapter cannot trace it) or auto (whichever the adapter draws
+    /// faster, timed once).
+    #[arg(long, value_enum, default_value_t = Primary::Raster)]
+    primary: Primary,
+}
+
+/// `--primary`'s values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum Primary {
+    /// Rasterized.
+    Raster,
+    /// Traced through the BVHs.
+    Traced,
+    /// The faster of the two on this adapter.
+    Auto,
+}
+
+impl From<Primary> for chiaro::gpu::PrimaryVisibility {
+    fn from(primary: Primary) -> Self {
+        match primary {
+            Primary::Raster => chiaro::gpu::PrimaryVisibility::Raster,
+            Primary::Traced => chiaro::gpu::PrimaryVisibility::Traced,
+            Primary::Auto => chiaro::gpu::PrimaryVisibility::Auto,
+        }
+    }
 }
 
 impl FrameArgs {
@@ -306,6 +333,7 @@ impl FrameArgs {
             light_sampling: self.light_sampling,
             firefly_clamp: self.firefly_clamp,
             exposure: exposure_from_ev(self.exposure),
+            primary: self.primary.into(),
             ..FrameSettings::default()
         };
         settings.denoise.enabled = !self.no_denoise;

@@ -74,11 +74,15 @@ pub fn run(
     }
     println!("wrote {}", out.display());
     println!(
-        "{}x{}, {} frames of {} in {seconds:.2} s on {adapter}",
+        "{}x{}, {} frames of {} in {seconds:.2} s on {adapter}, primary visibility {}",
         output.width,
         output.height,
         output.times.len(),
-        frame.mode.name()
+        frame.mode.name(),
+        renderer
+            .frame()
+            .map_or(frame.primary, |f| f.primary())
+            .name(),
     );
     if let (Some(setup), Some(first)) = (renderer.setup_times(), output.times.first()) {
         let triangles = chiaro::scene::SceneInfo::gather(&mut world).mesh_triangles;

@@ -58,7 +58,11 @@ pub enum ContextError {
 pub fn required_limits(adapter: &wgpu::Limits) -> wgpu::Limits {
     wgpu::Limits {
         max_storage_buffers_per_shader_stage: STORAGE_BUFFERS_PER_STAGE,
-        max_storage_textures_per_shader_stage: 4,
+        // Five where the adapter has them: the traced G-buffer writes five targets.
+        max_storage_textures_per_shader_stage: adapter.max_storage_textures_per_shader_stage.clamp(
+            4,
+            crate::passes::gbuffer_traced::TRACED_GBUFFER_STORAGE_TEXTURES,
+        ),
         max_texture_dimension_2d: adapter.max_texture_dimension_2d.max(2048),
         max_color_attachments: GBUFFER_TARGETS,
         max_color_attachment_bytes_per_sample: 64,
@@ -151,6 +155,10 @@ pub struct GpuContext {
     pub queue: wgpu::Queue,
     /// Whether the device has timestamp queries (passes are then timed on the GPU).
     pub timestamps: bool,
+    /// Whether the device can trace the G-buffer
+    /// ([`crate::passes::gbuffer_traced::traced_gbuffer_supported`]); its targets are then
+    /// storage textures too.
+    pub traced_gbuffer: bool,
     /// Tells this context's device from every other this process made (wgpu's handles of
     /// devices from different instances may compare equal).
     pub id: u64,
@@ -224,6 +232,7 @@ impl GpuContext {
             });
         }
         let timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let traced_gbuffer = crate::passes::gbuffer_traced::traced_gbuffer_supported(&adapter);
         let required_features = if timestamps {
             wgpu::Features::TIMESTAMP_QUERY
         } else {
@@ -243,13 +252,14 @@ impl GpuContext {
                 }
             })?;
         log::info!(
-            "GPU: {} ({:?}, {:?}, driver {} {}), timestamps {}",
+            "GPU: {} ({:?}, {:?}, driver {} {}), timestamps {}, traced G-buffer {}",
             info.name,
             info.backend,
             info.device_type,
             info.driver,
             info.driver_info,
-            timestamps
+            timestamps,
+            traced_gbuffer,
         );
         Ok(Self {
             instance,
@@ -258,6 +268,7 @@ impl GpuContext {
             device,
             queue,
             timestamps,
+            traced_gbuffer,
             id: NEXT_CONTEXT_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
         })
     }

@@ -1,8 +1,8 @@
 //! One frame, top-down: the passes in the order they run, which of them each mode runs, their
 //! parameter buffers and bind groups, timed per pass.
 //!
-//! 1. `gbuffer` (raster): position, normals, material, emission, instance id, motion vectors,
-//!    depth.
+//! 1. `gbuffer` (raster, or traced through the BVHs: [`PrimaryVisibility`]): position,
+//!    normals, material, emission, instance id, motion vectors, depth.
 //! 2. `direct` (compute): the direct light the surface seen reflects (light samples with shadow
 //!    rays, MIS with BRDF samples); the environment where no surface is seen.
 //! 3. `indirect` (compute): `spp` paths from the surface seen, the light they gather after the
@@ -26,9 +26,12 @@ use crate::passes::composite::{
 };
 use crate::passes::direct::{DirectParams, DirectPass};
 use crate::passes::gbuffer::GbufferPass;
+use crate::passes::gbuffer_traced::TracedGbufferPass;
 use crate::passes::indirect::{IndirectParams, IndirectPass};
 use crate::passes::tonemap::{TonemapParams, TonemapPass};
-use crate::settings::{FrameSettings, LightSampling, REFERENCE_BOUNCES, RenderMode};
+use crate::settings::{
+    FrameSettings, LightSampling, PrimaryVisibility, REFERENCE_BOUNCES, RenderMode,
+};
 use crate::shaders::ShaderError;
 use crate::specialization::PipelineFeatures;
 use crate::still_view::{Stillness, history_weights};
@@ -136,32 +139,53 @@ fn params_buffer(device: &wgpu::Device, label: &str, size: usize) -> wgpu::Buffe
 /// frame keeps them and recompiles nothing.
 pub struct ScenePasses {
     gbuffer: GbufferPass,
+    /// The traced G-buffer, where the device can run it.
+    gbuffer_traced: Option<TracedGbufferPass>,
     direct: DirectPass,
     indirect: IndirectPass,
 }
 
 impl ScenePasses {
-    /// The passes for `scene`'s bind-group layout (their pipelines are built on first use).
-    pub fn new(device: &wgpu::Device, scene: &GpuScene) -> Result<Self, ShaderError> {
+    /// The passes for `scene`'s bind-group layout (their pipelines are built on first use),
+    /// the traced G-buffer among them where the device can run it (`traced_gbuffer`:
+    /// [`GpuContext::traced_gbuffer`]).
+    pub fn new(
+        device: &wgpu::Device,
+        scene: &GpuScene,
+        traced_gbuffer: bool,
+    ) -> Result<Self, ShaderError> {
         Ok(Self {
             gbuffer: GbufferPass::new(device, scene)?,
+            gbuffer_traced: traced_gbuffer
+                .then(|| TracedGbufferPass::new(device, scene))
+                .transpose()?,
             direct: DirectPass::new(device, scene)?,
             indirect: IndirectPass::new(device, scene)?,
         })
     }
 
     /// Selects each pass's pipeline for the frame's features (see
-    /// [`crate::specialization::PipelineCache::select`]); returns the feature set every pass
-    /// the frame runs now has, or `None` while they differ.
+    /// [`crate::specialization::PipelineCache::select`]), the G-buffer's traced one when
+    /// `traced`; returns the feature set every pass the frame runs now has, or `None` while
+    /// they differ.
     fn specialize(
         &mut self,
         device: &wgpu::Device,
         input: &FrameInput,
+        traced: bool,
     ) -> Option<PipelineFeatures> {
         let (features, background) = (input.features, input.background_compile);
-        self.gbuffer
-            .pipelines
-            .specialize(device, features, background);
+        let first = match &mut self.gbuffer_traced {
+            Some(pass) if traced => {
+                pass.pipelines.specialize(device, features, background);
+                pass.pipelines.features()
+            }
+            _ => {
+                let pipelines = &mut self.gbuffer.pipelines;
+                pipelines.specialize(device, features, background);
+                pipelines.features()
+            }
+        };
         self.direct
             .pipelines
             .specialize(device, features, background);
@@ -171,14 +195,17 @@ impl ScenePasses {
                 .specialize(device, features, background);
             self.indirect.pipelines.features()
         });
-        let first = self.gbuffer.pipelines.features();
         let same = self.direct.pipelines.features() == first && indirect.is_none_or(|f| f == first);
         first.filter(|_| same)
     }
 
-    /// Pipelines built so far by the three passes.
+    /// Pipelines built so far by the scene passes.
     pub fn pipeline_builds(&self) -> u32 {
         self.gbuffer.pipelines.builds()
+            + self
+                .gbuffer_traced
+                .as_ref()
+                .map_or(0, |pass| pass.pipelines.builds())
             + self.direct.pipelines.builds()
             + self.indirect.pipelines.builds()
     }
@@ -200,6 +227,12 @@ pub struct Frame {
     composite_params: wgpu::Buffer,
     tonemap_params: wgpu::Buffer,
     camera_group: wgpu::BindGroup,
+    /// The traced G-buffer's bind group, where the device can trace it.
+    gbuffer_traced_group: Option<wgpu::BindGroup>,
+    /// How the last frame found the surfaces seen.
+    primary: PrimaryVisibility,
+    /// What [`PrimaryVisibility::Auto`] measured to be faster at this size, once measured.
+    auto_primary: Option<PrimaryVisibility>,
     direct_group: wgpu::BindGroup,
     indirect_group: wgpu::BindGroup,
     composite_groups: [wgpu::BindGroup; 2],
@@ -221,9 +254,10 @@ impl Frame {
         height: u32,
     ) -> Result<Self, ShaderError> {
         let device = &context.device;
-        let targets = FrameTargets::new(device, width, height);
+        let targets = FrameTargets::new(device, width, height, context.traced_gbuffer);
         let ScenePasses {
             gbuffer,
+            gbuffer_traced,
             direct,
             indirect,
         } = &scene_passes;
@@ -239,6 +273,11 @@ impl Frame {
         let filtered = denoiser.output();
         Ok(Self {
             camera_group: gbuffer.camera_bind_group(device, &camera),
+            gbuffer_traced_group: gbuffer_traced
+                .as_ref()
+                .map(|pass| pass.bind_group(device, &targets, &camera)),
+            primary: PrimaryVisibility::Raster,
+            auto_primary: None,
             direct_group: direct.bind_group(device, &targets, &camera, &direct_params),
             indirect_group: indirect.bind_group(device, &targets, &camera, &indirect_params),
             composite_groups: [0, 1].map(|parity| {
@@ -296,6 +335,13 @@ impl Frame {
     /// (for debug views that trace the frame's camera rays).
     pub fn camera(&self) -> &wgpu::Buffer {
         &self.camera
+    }
+
+    /// How the last frame found the surfaces its pixels see: as its settings asked (for
+    /// [`PrimaryVisibility::Auto`], what was measured faster), or rasterized where the device
+    /// cannot trace them.
+    pub fn primary(&self) -> PrimaryVisibility {
+        self.primary
     }
 
     /// The realtime mode's denoiser (its history and output, for tests and debug views).
@@ -382,14 +428,11 @@ impl Frame {
         let t = &self.targets;
         let timer = &self.timer;
         match pass {
-            Pass::Gbuffer => self.scene_passes.gbuffer.record(
-                encoder,
-                scene,
-                &self.camera_group,
-                view,
-                t,
-                timer.render(slot, index),
-            ),
+            Pass::Gbuffer => {
+                let traced = self.primary == PrimaryVisibility::Traced;
+                let timestamps = (timer.render(slot, index), timer.compute(slot, index));
+                self.record_gbuffer(encoder, scene, view, traced, timestamps);
+            }
             Pass::Direct => self.scene_passes.direct.record(
                 encoder,
                 scene,
@@ -426,6 +469,89 @@ impl Frame {
         }
     }
 
+    /// Records the G-buffer pass, traced (where the device can) or rasterized, with the
+    /// timestamp writes of either kind of pass.
+    fn record_gbuffer(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &GpuScene,
+        view: Option<CullView>,
+        traced: bool,
+        (render, compute): (
+            Option<wgpu::RenderPassTimestampWrites<'_>>,
+            Option<wgpu::ComputePassTimestampWrites<'_>>,
+        ),
+    ) {
+        let t = &self.targets;
+        match (
+            &self.gbuffer_traced_group,
+            &self.scene_passes.gbuffer_traced,
+        ) {
+            (Some(group), Some(pass)) if traced => {
+                pass.record(encoder, scene, group, t, compute);
+            }
+            _ => {
+                let pass = &self.scene_passes.gbuffer;
+                pass.record(encoder, scene, &self.camera_group, view, t, render);
+            }
+        }
+    }
+
+    /// How this frame finds its surfaces (see [`Frame::primary`]); for
+    /// [`PrimaryVisibility::Auto`], the first time at this size, both G-buffer passes are
+    /// built, run alone three times each and timed by the wall clock, the best of each run
+    /// counting (the first run may build the driver's own code), and the faster is kept. While
+    /// a pipeline still compiles in the background the frame rasterizes and measures later.
+    fn choose_primary(
+        &mut self,
+        context: &GpuContext,
+        scene: &GpuScene,
+        view: Option<CullView>,
+        input: &FrameInput,
+    ) -> PrimaryVisibility {
+        use PrimaryVisibility::{Auto, Raster, Traced};
+        let (device, queue) = (&context.device, &context.queue);
+        match input.settings.primary {
+            _ if self.gbuffer_traced_group.is_none() => Raster,
+            Raster => Raster,
+            Traced => Traced,
+            Auto => {
+                if let Some(choice) = self.auto_primary {
+                    return choice;
+                }
+                let mut best = [f64::INFINITY; 2];
+                for (traced, best) in [false, true].into_iter().zip(&mut best) {
+                    if self
+                        .scene_passes
+                        .specialize(device, input, traced)
+                        .is_none()
+                    {
+                        return Raster;
+                    }
+                    for _ in 0..3 {
+                        let start = std::time::Instant::now();
+                        let mut encoder = new_encoder(device);
+                        self.record_gbuffer(&mut encoder, scene, view, traced, (None, None));
+                        queue.submit([encoder.finish()]);
+                        let _ = device.poll(wgpu::PollType::wait_indefinitely());
+                        *best = best.min(start.elapsed().as_secs_f64() * 1e3);
+                    }
+                }
+                let choice = if best[1] < best[0] { Traced } else { Raster };
+                log::info!(
+                    "primary visibility: raster {:.3} ms, traced {:.3} ms at {}x{}: {}",
+                    best[0],
+                    best[1],
+                    self.targets.width,
+                    self.targets.height,
+                    choice.name()
+                );
+                self.auto_primary = Some(choice);
+                choice
+            }
+        }
+    }
+
     /// Submits one frame of `scene` seen by `camera` and returns the pass times of the frames
     /// the GPU has finished since the last call, oldest first: this one among them only when
     /// `input.frames_in_flight` is 1 or the passes are timed by the wall clock, which waits
@@ -440,9 +566,15 @@ impl Frame {
     ) -> Vec<PassTimes> {
         let (device, queue) = (&context.device, &context.queue);
         let start = std::time::Instant::now();
-        self.features = self.scene_passes.specialize(device, input);
-        let compile_ms = start.elapsed().as_secs_f64() * 1e3;
         self.write_params(queue, camera, input);
+        let primary = self.choose_primary(context, scene, camera.cull_view(), input);
+        if primary != self.primary {
+            log::info!("primary visibility: {}", primary.name());
+        }
+        self.primary = primary;
+        let traced = primary == PrimaryVisibility::Traced;
+        self.features = self.scene_passes.specialize(device, input, traced);
+        let compile_ms = start.elapsed().as_secs_f64() * 1e3;
         let run = passes(&input.settings);
         let wall_clock = self.timer.clock() == PassClock::Wall;
         let slot = self.in_flight.next_slot();

@@ -426,7 +426,11 @@ impl Renderer {
             self.finished = finished;
             let scene_passes = match self.frame.take() {
                 Some(old) => old.into_scene_passes(),
-                None => ScenePasses::new(&self.context.device, world.resource::<GpuScene>())?,
+                None => ScenePasses::new(
+                    &self.context.device,
+                    world.resource::<GpuScene>(),
+                    self.context.traced_gbuffer,
+                )?,
             };
             self.frame = Some(Frame::new(&self.context, scene_passes, width, height)?);
             self.accumulated = 0;

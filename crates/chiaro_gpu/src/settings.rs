@@ -67,6 +67,35 @@ impl RenderMode {
     }
 }
 
+/// How the G-buffer finds the surface each pixel sees.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum PrimaryVisibility {
+    /// Rasterized: the scene's triangles drawn with a depth test (`shaders/gbuffer.wgsl`).
+    #[default]
+    Raster,
+    /// Traced: one camera ray per pixel cast through the BVHs in a compute pass
+    /// (`shaders/gbuffer_traced.wgsl`); its cost follows the BVH's depth rather than the
+    /// triangles drawn. Where the adapter cannot run it (fewer than 5 storage textures per
+    /// shader stage, or no storage writes to the targets' formats, as on GL), the frame
+    /// rasterizes.
+    Traced,
+    /// Whichever of the two the device draws faster: measured once per frame size, the first
+    /// time a frame asks ([`crate::frame::Frame::primary`] tells which). Where timing noise
+    /// could flip the choice between runs, name one for reproducible images.
+    Auto,
+}
+
+impl PrimaryVisibility {
+    /// The choice's name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            PrimaryVisibility::Raster => "raster",
+            PrimaryVisibility::Traced => "traced",
+            PrimaryVisibility::Auto => "auto",
+        }
+    }
+}
+
 /// The denoiser of the realtime mode: temporal accumulation, then variance estimation and an
 /// edge-avoiding a-trous filter (SVGF: Schied et al., "Spatiotemporal Variance-Guided
 /// Filtering", HPG 2017).
@@ -169,6 +198,8 @@ pub struct FrameSettings {
     /// to 600. Lower: fewer fireflies and more energy lost, a darker image (bias); higher:
     /// closer to unbiased. The reference and naive modes ignore it (they stay unbiased).
     pub firefly_clamp: f32,
+    /// How the G-buffer finds the surface each pixel sees: rasterized or traced.
+    pub primary: PrimaryVisibility,
 }
 
 impl Default for FrameSettings {
@@ -183,6 +214,7 @@ impl Default for FrameSettings {
             exposure: 1.0,
             pipeline: PipelineChoice::Specialized,
             firefly_clamp: DEFAULT_FIREFLY_CLAMP,
+            primary: PrimaryVisibility::Raster,
         }
     }
 }

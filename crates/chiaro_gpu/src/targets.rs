@@ -115,11 +115,18 @@ pub struct FrameTargets {
 }
 
 impl FrameTargets {
-    /// Targets of `width` x `height` pixels.
-    pub fn new(device: &wgpu::Device, width: u32, height: u32) -> Self {
+    /// Targets of `width` x `height` pixels; with `traced_gbuffer`, the G-buffer's colour
+    /// targets are storage textures too (the traced G-buffer writes them from a compute pass).
+    pub fn new(device: &wgpu::Device, width: u32, height: u32, traced_gbuffer: bool) -> Self {
         use wgpu::TextureUsages as U;
         let size = (width, height);
-        let gbuffer = U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC;
+        let raster = U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC;
+        let gbuffer = raster
+            | if traced_gbuffer {
+                U::STORAGE_BINDING
+            } else {
+                U::empty()
+            };
         let storage = U::STORAGE_BINDING | U::TEXTURE_BINDING | U::COPY_SRC;
         Self {
             width,
@@ -128,14 +135,15 @@ impl FrameTargets {
             surface: Target::new(device, "gbuffer surface", SURFACE_FORMAT, size, gbuffer),
             emission: Target::new(device, "gbuffer emission", EMISSION_FORMAT, size, gbuffer),
             motion: Target::new(device, "gbuffer motion", MOTION_FORMAT, size, gbuffer),
+            // Storage always: the direct and indirect passes read it as a storage texture.
             triangle: Target::new(
                 device,
                 "gbuffer triangle",
                 TRIANGLE_FORMAT,
                 size,
-                gbuffer | U::STORAGE_BINDING,
+                raster | U::STORAGE_BINDING,
             ),
-            depth: Target::new(device, "gbuffer depth", DEPTH_FORMAT, size, gbuffer),
+            depth: Target::new(device, "gbuffer depth", DEPTH_FORMAT, size, raster),
             direct: Target::new(device, "direct light", HDR_FORMAT, size, storage),
             direct_punctual: Target::new(
                 device,

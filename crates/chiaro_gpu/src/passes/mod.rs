@@ -5,6 +5,7 @@ pub mod atrous;
 pub mod composite;
 pub mod direct;
 pub mod gbuffer;
+pub mod gbuffer_traced;
 pub mod indirect;
 pub mod shading_pass;
 pub mod temporal;
@@ -170,6 +171,53 @@ impl ComputeStage {
             timestamps,
         );
     }
+}
+
+/// A compute pipeline of entry point `main` of `module`, compiled for `features`.
+pub fn specialized_compute_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    module: &wgpu::ShaderModule,
+    layout: &wgpu::PipelineLayout,
+    features: crate::specialization::PipelineFeatures,
+) -> wgpu::ComputePipeline {
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(label),
+        layout: Some(layout),
+        module,
+        entry_point: Some("main"),
+        compilation_options: wgpu::PipelineCompilationOptions {
+            constants: &features.constants(),
+            ..Default::default()
+        },
+        cache: None,
+    })
+}
+
+/// Records one compute pass of a pass that reads the scene: `pipeline` over every pixel of
+/// `targets`, the scene's bind group at index 0 and `group` at 1 (nothing while the scene has
+/// no bind group or no pipeline was selected).
+pub fn dispatch_scene_pass(
+    encoder: &mut wgpu::CommandEncoder,
+    label: &str,
+    scene: &crate::gpu_scene::GpuScene,
+    pipeline: Option<&wgpu::ComputePipeline>,
+    group: &wgpu::BindGroup,
+    targets: &crate::targets::FrameTargets,
+    timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
+) {
+    let (Some(scene_group), Some(pipeline)) = (scene.bind_group(), pipeline) else {
+        return;
+    };
+    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+        label: Some(label),
+        timestamp_writes: timestamps,
+    });
+    pass.set_pipeline(pipeline);
+    pass.set_bind_group(0, scene_group, &[]);
+    pass.set_bind_group(1, group, &[]);
+    let (x, y) = workgroups(targets.width, targets.height);
+    pass.dispatch_workgroups(x, y, 1);
 }
 
 /// A texture view as a binding.

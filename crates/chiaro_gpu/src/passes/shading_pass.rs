@@ -125,19 +125,15 @@ impl<K: ShadingKind> GbufferShadingPass<K> {
         targets: &FrameTargets,
         timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) {
-        let (Some(scene_group), Some(pipeline)) = (scene.bind_group(), self.pipelines.pipeline())
-        else {
-            return;
-        };
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some(&format!("{} pass", K::NAME)),
-            timestamp_writes: timestamps,
-        });
-        pass.set_pipeline(pipeline);
-        pass.set_bind_group(0, scene_group, &[]);
-        pass.set_bind_group(1, group, &[]);
-        let (x, y) = super::workgroups(targets.width, targets.height);
-        pass.dispatch_workgroups(x, y, 1);
+        super::dispatch_scene_pass(
+            encoder,
+            &format!("{} pass", K::NAME),
+            scene,
+            self.pipelines.pipeline(),
+            group,
+            targets,
+            timestamps,
+        );
     }
 }
 
@@ -148,15 +144,6 @@ fn build_pipeline<K: ShadingKind>(
     layout: &wgpu::PipelineLayout,
     features: PipelineFeatures,
 ) -> wgpu::ComputePipeline {
-    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some(&format!("{} pipeline", K::NAME)),
-        layout: Some(layout),
-        module,
-        entry_point: Some("main"),
-        compilation_options: wgpu::PipelineCompilationOptions {
-            constants: &features.constants(),
-            ..Default::default()
-        },
-        cache: None,
-    })
+    let label = format!("{} pipeline", K::NAME);
+    super::specialized_compute_pipeline(device, &label, module, layout, features)
 }
