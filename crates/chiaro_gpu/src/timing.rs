@@ -17,7 +17,8 @@ pub struct PassTimes {
     /// True when measured by GPU timestamps, false by the wall clock.
     pub gpu_timestamps: bool,
     /// Milliseconds spent building pipelines for this frame (shader compilation: the first
-    /// frame, or a frame whose scene features changed; 0 otherwise).
+    /// frame, or a frame whose scene features changed; 0 otherwise), and the one-time
+    /// measurement of `--primary auto` where this frame made it.
     pub compile_ms: f64,
     /// Milliseconds of CPU from the frame's start to its submission returning: pipeline
     /// selection and builds, parameters, recording and submission (the scene systems before
