@@ -3,6 +3,7 @@
 mod args;
 mod bench;
 mod compare;
+mod frame_args;
 mod render;
 
 use std::path::{Path, PathBuf};
@@ -10,15 +11,16 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use bevy_ecs::world::World;
-use clap::{Args, Parser, Subcommand, ValueEnum};
+use clap::{Args, Parser, Subcommand};
 
-use chiaro::gpu::{FrameSettings, RenderMode};
+use chiaro::gpu::FrameSettings;
 use chiaro::reference::{
     Integrator, LightSampling, PathSettings, RenderSettings, Sampler, render_world, write_exr,
     write_png,
 };
 use chiaro::scene::{Environment, LoadOptions, SceneInfo, load_scene_with};
 use chiaro::shading::tonemap::{Tonemapper, exposure_from_ev};
+use frame_args::FrameArgs;
 
 #[derive(Parser)]
 #[command(
@@ -233,112 +235,6 @@ enum Command {
         #[arg(long, default_value_t = 0)]
         seed: u64,
     },
-}
-
-/// What `chiaro render` computes per frame.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-enum Mode {
-    /// Direct and indirect light, temporal accumulation and a-trous denoising: the real-time
-    /// frame (the last frame is the image).
-    Realtime,
-    /// Progressive unbiased path tracing on the GPU, the mean of the frames (each frame one
-    /// camera ray and direct-light estimate a pixel, and --spp indirect paths from it).
-    Reference,
-    /// Pure path tracing with uniform hemisphere directions and no light sampling (the
-    /// baseline), the mean of the frames.
-    Naive,
-    /// Emission and direct light with shadow rays (MIS for area lights and the environment),
-    /// the mean of the frames.
-    Direct,
-}
-
-impl From<Mode> for RenderMode {
-    fn from(mode: Mode) -> Self {
-        match mode {
-            Mode::Realtime => RenderMode::Realtime,
-            Mode::Reference => RenderMode::Reference,
-            Mode::Naive => RenderMode::Naive,
-            Mode::Direct => RenderMode::Direct,
-        }
-    }
-}
-
-/// What each frame of `chiaro render` computes.
-#[derive(Args)]
-struct FrameArgs {
-    /// What the frame computes.
-    #[arg(long, value_enum, default_value_t = Mode::Realtime)]
-    mode: Mode,
-    /// Indirect paths per pixel per frame (1..=64).
-    #[arg(long, default_value_t = 1)]
-    spp: u32,
-    /// Surfaces after the first at which a realtime path gathers light (1..=64).
-    #[arg(long, default_value_t = chiaro::gpu::settings::DEFAULT_BOUNCES)]
-    bounces: u32,
-    /// Turns the realtime mode's denoiser (temporal, variance, a-trous) off.
-    #[arg(long)]
-    no_denoise: bool,
-    /// How next-event estimation picks a light: tree (by importance to the shading point,
-    /// through light trees) or power (by power alone).
-    #[arg(long, default_value = "tree")]
-    light_sampling: LightSampling,
-    /// Most luminance one realtime light sample (an indirect path, the direct light's BRDF
-    /// sample or randomly picked light) may bring, in units of display white at the exposure, a
-    /// brighter one scaled down to it (fewer fireflies, some energy lost); 0 is off.
-    #[arg(long, default_value_t = chiaro::gpu::settings::DEFAULT_FIREFLY_CLAMP,
-          value_parser = args::non_negative, allow_negative_numbers = true)]
-    firefly_clamp: f32,
-    /// Exposure in stops: linear radiance times 2^STOPS before tonemapping (-30..=30), in the
-    /// PNG and the window. An EXR stays linear radiance, unscaled, so that its error against a
-    /// reference means the same at any exposure (the realtime firefly clamp, in units of
-    /// display white, follows the exposure).
-    #[arg(long, default_value_t = 0.0, value_parser = args::exposure_stops,
-          allow_negative_numbers = true)]
-    exposure: f32,
-    /// How the G-buffer finds the surface each pixel sees: raster (triangles drawn with a
-    /// depth test), traced (a camera ray per pixel through the BVHs, in a compute pass;
-    /// rasterized where the adapter cannot trace it) or auto (whichever the adapter draws
-    /// faster, timed once).
-    #[arg(long, value_enum, default_value_t = Primary::Raster)]
-    primary: Primary,
-}
-
-/// `--primary`'s values.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-enum Primary {
-    /// Rasterized.
-    Raster,
-    /// Traced through the BVHs.
-    Traced,
-    /// The faster of the two on this adapter.
-    Auto,
-}
-
-impl From<Primary> for chiaro::gpu::PrimaryVisibility {
-    fn from(primary: Primary) -> Self {
-        match primary {
-            Primary::Raster => chiaro::gpu::PrimaryVisibility::Raster,
-            Primary::Traced => chiaro::gpu::PrimaryVisibility::Traced,
-            Primary::Auto => chiaro::gpu::PrimaryVisibility::Auto,
-        }
-    }
-}
-
-impl FrameArgs {
-    fn settings(&self) -> FrameSettings {
-        let mut settings = FrameSettings {
-            mode: self.mode.into(),
-            spp: self.spp,
-            bounces: self.bounces,
-            light_sampling: self.light_sampling,
-            firefly_clamp: self.firefly_clamp,
-            exposure: exposure_from_ev(self.exposure),
-            primary: self.primary.into(),
-            ..FrameSettings::default()
-        };
-        settings.denoise.enabled = !self.no_denoise;
-        settings
-    }
 }
 
 /// A reader that closes its end early (`chiaro compare A B | head -1`) ends the program

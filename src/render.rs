@@ -113,7 +113,7 @@ pub fn run(
             .unwrap_or_default()
     );
     let timed = &output.times[output.times.len() / 2..];
-    let median = |pick: fn(&chiaro::gpu::PassTimes) -> f64| {
+    let median = |pick: &dyn Fn(&chiaro::gpu::PassTimes) -> f64| {
         let mut ms: Vec<f64> = timed.iter().map(pick).collect();
         ms.sort_by(f64::total_cmp);
         ms.get(ms.len() / 2).copied().unwrap_or(0.0)
@@ -131,8 +131,8 @@ pub fn run(
     println!(
         "throughput {throughput}, latency {:.2} ms, CPU to submit {:.2} ms (medians over the \
          last half, up to {} frames in flight)",
-        median(|t| t.wall_ms),
-        median(|t| t.submit_ms),
+        median(&|t| t.wall_ms),
+        median(&|t| t.submit_ms),
         renderer.frames_in_flight(),
     );
     let clock = match timed.first() {
@@ -145,9 +145,8 @@ pub fn run(
         .iter()
         .enumerate()
     {
-        let mut ms: Vec<f64> = timed.iter().map(|t| t.passes[index].1).collect();
-        ms.sort_by(f64::total_cmp);
-        println!("  {name:<10} {:8.3} ms (median, {clock})", ms[ms.len() / 2]);
+        let ms = median(&|t| t.passes[index].1);
+        println!("  {name:<10} {ms:8.3} ms (median, {clock})");
     }
     Ok(())
 }

@@ -523,12 +523,8 @@ impl Frame {
         };
         self.in_flight
             .submitted(queue, &self.timer, frame, submission);
-        let limit = if wall_clock {
-            1
-        } else {
-            input.frames_in_flight
-        };
-        let keep = limit.clamp(1, crate::in_flight::MAX_FRAMES_IN_FLIGHT) as usize - 1;
+        let limit = crate::in_flight::frames_in_flight(self.timer.clock(), input.frames_in_flight);
+        let keep = limit as usize - 1;
         self.in_flight.collect(device, &self.timer, keep)
     }
 

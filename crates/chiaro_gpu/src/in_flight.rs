@@ -7,7 +7,7 @@ use std::collections::VecDeque;
 use std::sync::{Arc, OnceLock};
 use std::time::Instant;
 
-use crate::timing::{PassTimer, PassTimes, TIMER_SLOTS};
+use crate::timing::{PassClock, PassTimer, PassTimes, TIMER_SLOTS};
 
 /// Frames the renderer keeps in flight on a GPU unless told otherwise
 /// ([`crate::Renderer::new`], [`crate::Renderer::set_frames_in_flight`]).
@@ -15,6 +15,16 @@ pub const DEFAULT_FRAMES_IN_FLIGHT: u32 = 2;
 
 /// The most frames in flight (one timestamp slot each).
 pub const MAX_FRAMES_IN_FLIGHT: u32 = TIMER_SLOTS as u32;
+
+/// The most frames in flight when `n` are asked for and the passes are timed by `clock`:
+/// `n` within 1..=[`MAX_FRAMES_IN_FLIGHT`], or 1 with the wall clock, which waits for every
+/// pass.
+pub fn frames_in_flight(clock: PassClock, n: u32) -> u32 {
+    match clock {
+        PassClock::Wall => 1,
+        PassClock::Gpu | PassClock::Off => n.clamp(1, MAX_FRAMES_IN_FLIGHT),
+    }
+}
 
 /// A frame on its way to the GPU: what its times need once it has finished.
 pub struct SubmittedFrame {
@@ -114,7 +124,7 @@ impl FramesInFlight {
                 passes: millis
                     .map(|ms| frame.passes.iter().copied().zip(ms).collect())
                     .unwrap_or_default(),
-                gpu_timestamps: timer.clock() == crate::timing::PassClock::Gpu,
+                gpu_timestamps: timer.clock() == PassClock::Gpu,
                 compile_ms: frame.compile_ms,
                 submit_ms: frame.submit_ms,
                 wall_ms: end.duration_since(frame.start).as_secs_f64() * 1e3,

@@ -220,10 +220,8 @@ impl Renderer {
     /// The most frames in flight: as set ([`Renderer::set_frames_in_flight`]), or 1 where
     /// the passes are timed by the wall clock.
     pub fn frames_in_flight(&self) -> u32 {
-        match crate::timing::PassClock::from_env(self.context.timestamps) {
-            crate::timing::PassClock::Wall => 1,
-            _ => self.frames_in_flight,
-        }
+        let clock = crate::timing::PassClock::from_env(self.context.timestamps);
+        crate::in_flight::frames_in_flight(clock, self.frames_in_flight)
     }
 
     /// Frames submitted whose pass times were not yet returned (they may have finished).
@@ -397,8 +395,7 @@ impl Renderer {
         self.attach(world);
         if self.world != Some(world.id()) {
             // A schedule's systems belong to one world: a new world gets new ones.
-            let finished = self.finish();
-            self.finished = finished;
+            self.finished = self.finish();
             self.schedule = Self::schedule();
             self.world = Some(world.id());
             self.frame = None;
@@ -422,8 +419,7 @@ impl Renderer {
                 });
             }
             // A new size keeps the scene passes and every pipeline they compiled.
-            let finished = self.finish();
-            self.finished = finished;
+            self.finished = self.finish();
             let scene_passes = match self.frame.take() {
                 Some(old) => old.into_scene_passes(),
                 None => ScenePasses::new(
