@@ -17,6 +17,8 @@
 //!   leave below the surface.
 //! - [`lights`]: point, spot, directional, triangle and environment lights: sampling and pdfs.
 //! - [`light_tree`]: a light tree choosing among many lights by their importance to a point.
+//! - [`reservoir`]: weighted reservoir sampling, resampled importance sampling and its reuse
+//!   (ReSTIR).
 //! - [`tonemap`]: ACES (fitted), Khronos PBR Neutral, clamp.
 //!
 //! Conventions: directions are unit vectors pointing away from the surface; BRDF functions work in
@@ -64,6 +66,7 @@ pub mod frame;
 pub mod ggx;
 pub mod light_tree;
 pub mod lights;
+pub mod reservoir;
 pub mod rng;
 pub mod sampling;
 pub mod shading_normal;
