@@ -19,6 +19,12 @@
 //
 // And in first_bounce_out, the BRDF ray's hit, for the indirect pass's first path to continue
 // from (lib/first_bounce.wgsl).
+//
+// With resampled direct light (ReSTIR DI: restir_temporal.wgsl, restir_spatial.wgsl), the
+// area-light sample is the pixel's final reservoir's, shaded with one shadow ray and weighted
+// by its W; the reservoirs then carry all the light the area-light table reaches, so the BRDF
+// sample adds only what the table cannot (lib/next_event.wgsl's REACHED_UNSAMPLED: a constant
+// environment, emitters outside the table).
 
 #import lib/generated.wgsl
 #import lib/float.wgsl
@@ -32,6 +38,7 @@
 #import lib/next_event.wgsl
 #import lib/color.wgsl
 #import lib/first_bounce.wgsl
+#import lib/reservoir.wgsl
 #import lib/lane_tiles.wgsl
 
 // chiaro_gpu::passes::direct::DirectParams.
@@ -45,7 +52,8 @@ struct DirectParams {
     light_sampling: u32,
     // Most luminance of the BRDF sample and of the punctual light picked at random; 0: off.
     firefly_clamp: f32,
-    pad0: u32,
+    // 1: the area-light sample is the resampled reservoir's (when the pipeline has its code).
+    restir: u32,
     pad1: u32,
 }
 
@@ -58,10 +66,13 @@ fn light_tree_sampling() -> bool {
 @group(1) @binding(5) var direct_out: texture_storage_2d<rgba32float, write>;
 @group(1) @binding(6) var direct_punctual_out: texture_storage_2d<rgba32float, write>;
 @group(1) @binding(7) var first_bounce_out: texture_storage_2d<rgba32uint, write>;
+// The final reservoirs of the resampling passes (read only with restir on).
+@group(1) @binding(8) var reservoirs: texture_2d<u32>;
 
 // One BRDF sample drawn with `numbers` (first_bounce_numbers): the emission or environment it
-// reaches, weighted against light sampling; `first` gets its hit when a ray is traced.
-fn brdf_light(s: Shading, numbers: vec3<f32>, first: ptr<function, vec4<u32>>) -> vec3<f32> {
+// reaches, weighed against light sampling as `weighing` says (lib/next_event.wgsl); `first`
+// gets its hit when a ray is traced.
+fn brdf_light(s: Shading, numbers: vec3<f32>, first: ptr<function, vec4<u32>>, weighing: u32) -> vec3<f32> {
     let bs = brdf_sample(s.params, s.wo, numbers.x, numbers.yz);
     if !bs.valid || !vec3_is_finite(bs.weight) || all(bs.weight == vec3<f32>(0.0)) {
         return vec3<f32>(0.0);
@@ -73,7 +84,18 @@ fn brdf_light(s: Shading, numbers: vec3<f32>, first: ptr<function, vec4<u32>>) -
     let hit = trace_closest(leaving_ray(s, wi), f32_infinity());
     *first = first_bounce_encode(hit);
     return bs.weight * medium_transmittance(s.position, wi, hit)
-        * emission_reached(s, wi, hit, bs.pdf, !bs.delta);
+        * emission_reached_weighing(s, wi, hit, bs.pdf, select(weighing, REACHED_UNWEIGHTED, bs.delta));
+}
+
+// The area light of the pixel's final reservoir: f cos L of its sample in the reservoirs'
+// measure (lib/reservoir.wgsl), seen through one shadow ray, times its contribution weight W.
+fn resampled_area_light(s: Shading, pixel: vec2<i32>) -> vec3<f32> {
+    let r = reservoir_unpack(textureLoad(reservoirs, pixel, 0));
+    if r.entry == RESERVOIR_NO_SAMPLE || r.contribution_weight == 0.0 {
+        return vec3<f32>(0.0);
+    }
+    let ls = area_light_at(s, r.entry, r.u);
+    return light_contribution(s, ls).xyz * restir_measure(ls) * r.contribution_weight;
 }
 
 @compute @workgroup_size(8, 8)
@@ -103,8 +125,16 @@ fn main(@builtin(workgroup_id) workgroup: vec3<u32>, @builtin(local_invocation_i
         var rng = pcg32_new(seed, vec2<u32>(index, params.frame));
         // Every punctual light (or one picked), then one area-light sample.
         punctual = punctual_light(s, &rng);
-        let area = area_light(s, &rng);
-        let brdf = brdf_light(s, first_bounce_numbers(seed, index, params.frame), &first);
+        var area: vec3<f32>;
+        var weighing = REACHED_MIS;
+        if restir_di_on(params.restir) {
+            area = resampled_area_light(s, pixel);
+            weighing = REACHED_UNSAMPLED;
+        } else {
+            area = area_light(s, &rng);
+        }
+        let numbers = first_bounce_numbers(seed, index, params.frame);
+        let brdf = brdf_light(s, numbers, &first, weighing);
         // The firefly clamp takes the samples whose value can be rare and huge: the BRDF
         // sample, and the punctual light picked at random; not the exact punctual part, nor
         // the area-light sample (light sampling: its value is about the light's true share).

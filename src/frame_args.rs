@@ -75,6 +75,10 @@ pub struct FrameArgs {
     /// faster, timed once).
     #[arg(long, value_enum, default_value_t = Primary::Raster)]
     primary: Primary,
+    /// Resamples the area light of the realtime and direct modes (ReSTIR DI): candidates per
+    /// pixel, merged with last frame's and, in motion, with neighbours'.
+    #[arg(long)]
+    restir_di: bool,
 }
 
 /// `--primary`'s values.
@@ -112,6 +116,7 @@ impl FrameArgs {
             ..FrameSettings::default()
         };
         settings.denoise.enabled = !self.no_denoise;
+        settings.restir.direct = self.restir_di;
         settings
     }
 }

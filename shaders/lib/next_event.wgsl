@@ -217,11 +217,25 @@ struct AreaSample {
 }
 
 fn area_light_sample(s: Shading, rng: ptr<function, Pcg32>) -> AreaSample {
-    let count = scene_info.area_count;
-    let u_pick = pcg32_next_f32(rng);
+    let pick = area_light_pick(s, pcg32_next_f32(rng));
     let u = pcg32_next_vec2(rng);
-    if count == 0u {
+    if pick.pmf == 0.0 {
         return AreaSample(light_sample_none(), 1.0);
+    }
+    return AreaSample(area_light_at(s, pick.entry, u), pick.pmf);
+}
+
+// An entry of the area-light table picked with the number u_pick, and the probability of the
+// pick (0: the table is empty).
+struct AreaPick {
+    entry: u32,
+    pmf: f32,
+}
+
+fn area_light_pick(s: Shading, u_pick: f32) -> AreaPick {
+    let count = scene_info.area_count;
+    if count == 0u {
+        return AreaPick(0u, 0.0);
     }
     let share = scene_info.env_pmf;
     var index: u32;
@@ -238,6 +252,13 @@ fn area_light_sample(s: Shading, rng: ptr<function, Pcg32>) -> AreaSample {
         index = pick.light;
         pmf = (1.0 - share) * pick.pmf;
     }
+    return AreaPick(index, pmf);
+}
+
+// The point of area-light table entry `index` that the numbers u draw (an emissive triangle's
+// point, or an environment direction), seen from the shading point: the same sample from every
+// point that asks with the same numbers (how resampled reservoirs name their sample).
+fn area_light_at(s: Shading, index: u32, u: vec2<f32>) -> LightSample {
     let entry = scene_area_light(index);
     var ls = light_sample_none();
     if entry.instance == NO_INDEX {
@@ -255,7 +276,7 @@ fn area_light_sample(s: Shading, rng: ptr<function, Pcg32>) -> AreaSample {
             * emitter_coverage(entry.instance, t.indices, mesh_b);
         ls = sample_triangle(t.v0, t.v1, t.v2, radiance, two_sided, s.position, u);
     }
-    return AreaSample(ls, pmf);
+    return ls;
 }
 
 // One sample of the area-light table, weighted against BRDF sampling.
@@ -329,6 +350,32 @@ fn next_event(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
 // area-light sampling from `source`; without, weight 1 (delta bounces, and paths that never
 // sample lights).
 fn emission_reached(source: Shading, wi: vec3<f32>, hit: Hit, brdf_pdf: f32, weighted: bool) -> vec3<f32> {
+    return emission_reached_weighing(source, wi, hit, brdf_pdf,
+        select(REACHED_UNWEIGHTED, REACHED_MIS, weighted));
+}
+
+// How emission_reached_weighing weighs what a BRDF-sampled ray reaches: by 1; by the power
+// heuristic against area-light sampling; or by 1 where area-light sampling cannot produce it
+// and 0 where it can (the direct pass with resampled area light, lib/reservoir.wgsl, whose
+// reservoirs carry all the light the area table can reach).
+const REACHED_UNWEIGHTED: u32 = 0u;
+const REACHED_MIS: u32 = 1u;
+const REACHED_UNSAMPLED: u32 = 2u;
+
+// The weight of a BRDF sample of pdf brdf_pdf against area-light sampling of pdf light_pdf.
+fn reached_weight(weighing: u32, brdf_pdf: f32, light_pdf: f32) -> f32 {
+    if weighing == REACHED_MIS {
+        return power_heuristic(1.0, brdf_pdf, 1.0, light_pdf);
+    }
+    if weighing == REACHED_UNSAMPLED {
+        return select(1.0, 0.0, light_pdf > 0.0);
+    }
+    return 1.0;
+}
+
+// emission_reached, weighed as `weighing` says.
+fn emission_reached_weighing(source: Shading, wi: vec3<f32>, hit: Hit, brdf_pdf: f32, weighing: u32) -> vec3<f32> {
+    let weighted = weighing != REACHED_UNWEIGHTED;
     if hit.instance == BVH_NO_HIT {
         if !FEATURE_ENVIRONMENT || scene_info.env_kind == ENV_BLACK {
             return vec3<f32>(0.0);
@@ -336,7 +383,8 @@ fn emission_reached(source: Shading, wi: vec3<f32>, hit: Hit, brdf_pdf: f32, wei
         let env = scene_environment();
         var weight = 1.0;
         if weighted {
-            weight = power_heuristic(1.0, brdf_pdf, 1.0, scene_info.env_pmf * environment_pdf(env, wi));
+            let light_pdf = scene_info.env_pmf * environment_pdf(env, wi);
+            weight = reached_weight(weighing, brdf_pdf, light_pdf);
         }
         return environment_radiance(env, wi) * weight;
     }
@@ -368,7 +416,7 @@ fn emission_reached(source: Shading, wi: vec3<f32>, hit: Hit, brdf_pdf: f32, wei
             pmf = scene_area_light(first + hit.triangle).pmf;
         }
         let light_pdf = pmf * triangle_solid_angle_pdf(t.v0, t.v1, t.v2, source.position, q);
-        weight = power_heuristic(1.0, brdf_pdf, 1.0, light_pdf);
+        weight = reached_weight(weighing, brdf_pdf, light_pdf);
     }
     return emitted * weight;
 }

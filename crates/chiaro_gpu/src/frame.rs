@@ -3,16 +3,20 @@
 //!
 //! 1. `gbuffer` (raster, or traced through the BVHs: [`PrimaryVisibility`]): position,
 //!    normals, material, emission, instance id, motion vectors, depth.
-//! 2. `direct` (compute): the direct light the surface seen reflects (light samples with shadow
+//! 2. `restir_temporal`, `restir_spatial` (compute; realtime and direct modes with resampled
+//!    direct light,
+//!    [`crate::settings::RestirSettings`]): each pixel's reservoir of area-light candidates,
+//!    merged with last frame's and with its neighbours'.
+//! 3. `direct` (compute): the direct light the surface seen reflects (light samples with shadow
 //!    rays, MIS with BRDF samples); the environment where no surface is seen.
-//! 3. `indirect` (compute): `spp` paths from the surface seen, the light they gather after the
+//! 4. `indirect` (compute): `spp` paths from the surface seen, the light they gather after the
 //!    first bounce (naive mode: all reflected light, by uniform hemisphere sampling).
-//! 4. `temporal`, `variance`, `atrous` (compute; realtime mode with the denoiser on): the
+//! 5. `temporal`, `variance`, `atrous` (compute; realtime mode with the denoiser on): the
 //!    lighting demodulated by albedo, reprojected and accumulated, its variance estimated, and
 //!    filtered edge-aware.
-//! 5. `composite` (compute): emission plus reflected light; in every mode but realtime, the
+//! 6. `composite` (compute): emission plus reflected light; in every mode but realtime, the
 //!    running mean over frames; the linear HDR image.
-//! 6. `tonemap` (compute): the HDR image to 8-bit sRGB.
+//! 7. `tonemap` (compute): the HDR image to 8-bit sRGB.
 
 use crate::camera::GpuCamera;
 use crate::context::GpuContext;
@@ -28,75 +32,22 @@ use crate::passes::direct::{DirectParams, DirectPass};
 use crate::passes::gbuffer::GbufferPass;
 use crate::passes::gbuffer_traced::TracedGbufferPass;
 use crate::passes::indirect::{IndirectParams, IndirectPass};
+use crate::passes::restir::{RestirParams, RestirSpatialPass, RestirTemporalPass};
 use crate::passes::tonemap::{TonemapParams, TonemapPass};
 use crate::settings::{
     FrameSettings, LightSampling, PrimaryVisibility, REFERENCE_BOUNCES, RenderMode,
 };
 use crate::shaders::ShaderError;
 use crate::specialization::PipelineFeatures;
-use crate::still_view::{Stillness, history_weights};
+use crate::still_view::{Stillness, history_weights, running_mean_frames};
 use crate::targets::FrameTargets;
 use crate::timing::{PassClock, PassTimer, PassTimes};
 
 mod primary;
+mod schedule;
 
-/// A pass of the frame.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Pass {
-    /// Rasterized G-buffer.
-    Gbuffer,
-    /// Direct light with shadow rays.
-    Direct,
-    /// Indirect paths.
-    Indirect,
-    /// Denoiser: temporal accumulation.
-    Temporal,
-    /// Denoiser: variance estimation.
-    Variance,
-    /// Denoiser: a-trous filter, all iterations.
-    Atrous,
-    /// Composite and accumulation.
-    Composite,
-    /// Tonemapping.
-    Tonemap,
-}
-
-impl Pass {
-    /// The pass's name (its file names and its entry in [`PassTimes`]).
-    pub fn name(self) -> &'static str {
-        match self {
-            Pass::Gbuffer => "gbuffer",
-            Pass::Direct => "direct",
-            Pass::Indirect => "indirect",
-            Pass::Temporal => "temporal",
-            Pass::Variance => "variance",
-            Pass::Atrous => "atrous",
-            Pass::Composite => "composite",
-            Pass::Tonemap => "tonemap",
-        }
-    }
-}
-
-/// Most passes a frame runs.
-const MAX_PASSES: u32 = 8;
-
-/// The passes a frame of `settings` runs, in order.
-pub fn passes(settings: &FrameSettings) -> Vec<Pass> {
-    let mut passes = vec![Pass::Gbuffer, Pass::Direct];
-    if settings.mode != RenderMode::Direct {
-        passes.push(Pass::Indirect);
-    }
-    if denoises(settings) {
-        passes.extend([Pass::Temporal, Pass::Variance, Pass::Atrous]);
-    }
-    passes.extend([Pass::Composite, Pass::Tonemap]);
-    passes
-}
-
-/// Whether a frame of `settings` runs the denoiser.
-fn denoises(settings: &FrameSettings) -> bool {
-    settings.mode == RenderMode::Realtime && settings.denoise.enabled
-}
+use schedule::{MAX_PASSES, denoises};
+pub use schedule::{Pass, passes};
 
 /// What one frame takes besides the scene and the camera.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -143,6 +94,8 @@ pub struct ScenePasses {
     gbuffer: GbufferPass,
     /// The traced G-buffer, where the device can run it.
     gbuffer_traced: Option<TracedGbufferPass>,
+    restir_temporal: RestirTemporalPass,
+    restir_spatial: RestirSpatialPass,
     direct: DirectPass,
     indirect: IndirectPass,
 }
@@ -161,6 +114,8 @@ impl ScenePasses {
             gbuffer_traced: traced_gbuffer
                 .then(|| TracedGbufferPass::new(device, scene))
                 .transpose()?,
+            restir_temporal: RestirTemporalPass::new(device, scene)?,
+            restir_spatial: RestirSpatialPass::new(device, scene)?,
             direct: DirectPass::new(device, scene)?,
             indirect: IndirectPass::new(device, scene)?,
         })
@@ -197,7 +152,21 @@ impl ScenePasses {
                 .specialize(device, features, background);
             self.indirect.pipelines.features()
         });
-        let same = self.direct.pipelines.features() == first && indirect.is_none_or(|f| f == first);
+        let restir = input.settings.resamples_direct_light().then(|| {
+            for pipelines in [
+                &mut self.restir_temporal.pipelines,
+                &mut self.restir_spatial.pipelines,
+            ] {
+                pipelines.specialize(device, features, background);
+            }
+            [
+                self.restir_temporal.pipelines.features(),
+                self.restir_spatial.pipelines.features(),
+            ]
+        });
+        let same = self.direct.pipelines.features() == first
+            && indirect.is_none_or(|f| f == first)
+            && restir.is_none_or(|r| r.iter().all(|&f| f == first));
         first.filter(|_| same)
     }
 
@@ -208,6 +177,8 @@ impl ScenePasses {
                 .gbuffer_traced
                 .as_ref()
                 .map_or(0, |pass| pass.pipelines.builds())
+            + self.restir_temporal.pipelines.builds()
+            + self.restir_spatial.pipelines.builds()
             + self.direct.pipelines.builds()
             + self.indirect.pipelines.builds()
     }
@@ -223,7 +194,10 @@ pub struct Frame {
     denoiser: Denoiser,
     /// Whether the last frame ran the denoiser (if not, its history is stale).
     denoised: bool,
+    /// Whether the last frame resampled its direct light (if not, the reservoirs are stale).
+    resampled: bool,
     camera: wgpu::Buffer,
+    restir_params: wgpu::Buffer,
     direct_params: wgpu::Buffer,
     indirect_params: wgpu::Buffer,
     composite_params: wgpu::Buffer,
@@ -235,6 +209,8 @@ pub struct Frame {
     primary: PrimaryVisibility,
     /// What [`PrimaryVisibility::Auto`] measured to be faster at this size, once measured.
     auto_primary: Option<PrimaryVisibility>,
+    /// The resampling passes' bind groups (first, spatial).
+    restir_groups: [wgpu::BindGroup; 2],
     direct_group: wgpu::BindGroup,
     indirect_group: wgpu::BindGroup,
     composite_groups: [wgpu::BindGroup; 2],
@@ -260,12 +236,15 @@ impl Frame {
         let ScenePasses {
             gbuffer,
             gbuffer_traced,
+            restir_temporal,
+            restir_spatial,
             direct,
             indirect,
         } = &scene_passes;
         let composite = CompositePass::new(device)?;
         let tonemap = TonemapPass::new(device)?;
         let camera = params_buffer(device, "camera params", size_of::<GpuCamera>());
+        let restir_params = params_buffer(device, "restir params", size_of::<RestirParams>());
         let direct_params = params_buffer(device, "direct params", size_of::<DirectParams>());
         let indirect_params = params_buffer(device, "indirect params", size_of::<IndirectParams>());
         let composite_params =
@@ -280,6 +259,10 @@ impl Frame {
                 .map(|pass| pass.bind_group(device, &targets, &camera)),
             primary: PrimaryVisibility::Raster,
             auto_primary: None,
+            restir_groups: [
+                restir_temporal.bind_group(device, &targets, &camera, &restir_params),
+                restir_spatial.bind_group(device, &targets, &camera, &restir_params),
+            ],
             direct_group: direct.bind_group(device, &targets, &camera, &direct_params),
             indirect_group: indirect.bind_group(device, &targets, &camera, &indirect_params),
             composite_groups: [0, 1].map(|parity| {
@@ -308,7 +291,9 @@ impl Frame {
             tonemap,
             denoiser,
             denoised: false,
+            resampled: false,
             camera,
+            restir_params,
             direct_params,
             indirect_params,
             composite_params,
@@ -367,9 +352,26 @@ impl Frame {
             lights: u32::from(!naive),
             light_sampling: light_sampling(s),
             firefly_clamp: firefly_clamp(s),
-            pad: [0; 2],
+            restir: u32::from(s.resamples_direct_light()),
+            pad: 0,
         };
         queue.write_buffer(&self.direct_params, 0, bytemuck::bytes_of(&direct));
+        if s.resamples_direct_light() {
+            // Last frame's reservoirs are this view's unless the history restarts or last
+            // frame did not resample.
+            let history = !input.reset_history && self.resampled;
+            let converging =
+                s.mode.accumulates() || running_mean_frames(&s.denoise, input.stillness) > 0;
+            let restir = RestirParams::new(
+                s,
+                (input.frame, input.seed),
+                light_sampling(s),
+                history,
+                converging,
+            );
+            queue.write_buffer(&self.restir_params, 0, bytemuck::bytes_of(&restir));
+        }
+        self.resampled = s.resamples_direct_light();
         let indirect = IndirectParams {
             frame: input.frame,
             seed_lo,
@@ -435,6 +437,20 @@ impl Frame {
                 let timestamps = (timer.render(slot, index), timer.compute(slot, index));
                 self.record_gbuffer(encoder, scene, view, traced, timestamps);
             }
+            Pass::RestirTemporal => self.scene_passes.restir_temporal.record(
+                encoder,
+                scene,
+                &self.restir_groups[0],
+                t,
+                timer.compute(slot, index),
+            ),
+            Pass::RestirSpatial => self.scene_passes.restir_spatial.record(
+                encoder,
+                scene,
+                &self.restir_groups[1],
+                t,
+                timer.compute(slot, index),
+            ),
             Pass::Direct => self.scene_passes.direct.record(
                 encoder,
                 scene,

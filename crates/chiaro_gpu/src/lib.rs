@@ -50,7 +50,10 @@ pub use gpu_scene::{GpuScene, UploadStats, add_gpu_scene_systems, upload_gpu_sce
 pub use in_flight::{DEFAULT_FRAMES_IN_FLIGHT, MAX_FRAMES_IN_FLIGHT};
 pub use readback::PendingImage;
 pub use renderer::{GbufferImage, RenderError, RenderOutput, RenderSettings, Renderer};
-pub use settings::{DenoiseSettings, FrameSettings, PrimaryVisibility, RenderMode, SettingsError};
+pub use settings::{
+    DenoiseSettings, FrameSettings, PrimaryVisibility, RenderMode, RestirBias, RestirSettings,
+    SettingsError,
+};
 pub use shaders::{ShaderError, compose};
 pub use specialization::{PipelineChoice, PipelineFeatures};
 pub use timing::{PassClock, PassTimes, SetupTimes};

@@ -482,6 +482,7 @@ impl Renderer {
             features: settings.frame.pipeline.features(
                 world.get_resource::<SceneFeatures>(),
                 scene.light_trees() && settings.frame.light_sampling == LightSampling::Tree,
+                settings.frame.resamples_direct_light(),
             ),
             background_compile: self.background_compile,
             frames_in_flight: self.frames_in_flight,

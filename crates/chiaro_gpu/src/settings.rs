@@ -148,6 +148,66 @@ impl Default for DenoiseSettings {
     }
 }
 
+/// How the spatial reuse of resampled direct light normalises its merged reservoirs
+/// (`shaders/restir_spatial.wgsl`; Bitterli et al. 2020, section 4.3).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum RestirBias {
+    /// By the total count M: no extra rays, and darker where a neighbour cannot see the
+    /// sample kept (contact shadows, creases). A still view that converges
+    /// ([`DenoiseSettings::converge_when_still`]) is normalised by Z all the same.
+    #[default]
+    Biased,
+    /// By Z, the counts of the reservoirs that could have produced the sample kept: one
+    /// visibility ray and one target evaluation per neighbour.
+    Unbiased,
+}
+
+/// Most neighbours the spatial reuse of resampled direct light merges.
+pub const MAX_RESTIR_NEIGHBOURS: u32 = 8;
+
+/// Resampled direct light of the realtime and direct modes (ReSTIR DI: Bitterli et al., "Spatiotemporal
+/// Reservoir Resampling for Real-Time Ray Tracing with Dynamic Direct Lighting", SIGGRAPH
+/// 2020): the area light (emissive triangles, an image environment) is drawn as `candidates`
+/// samples resampled into a reservoir per pixel, merged with last frame's along the motion
+/// vectors and with neighbours', and the survivor shaded with one shadow ray. Punctual lights
+/// are evaluated as without it. Off, the resampling passes do not run and the direct pass is
+/// compiled without their code.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RestirSettings {
+    /// Whether the realtime (and direct) mode resamples its area light.
+    pub direct: bool,
+    /// Area-light candidates drawn per pixel per frame (each one light pick and one BRDF
+    /// evaluation; one shadow ray for all). More: a better reservoir, more time.
+    pub candidates: u32,
+    /// Whether last frame's reservoirs are merged (temporal reuse).
+    pub temporal: bool,
+    /// Most weight last frame's reservoir has, in frames of candidates (its count M is capped
+    /// at this times `candidates`). Higher: less noise on a still view, slower response to
+    /// changed lighting.
+    pub history_cap: u32,
+    /// Neighbours merged per pixel (spatial reuse; 0: none), at most
+    /// [`MAX_RESTIR_NEIGHBOURS`].
+    pub spatial_samples: u32,
+    /// Radius of the disc the neighbours are drawn from, in pixels.
+    pub spatial_radius: f32,
+    /// How spatial reuse is normalised.
+    pub bias: RestirBias,
+}
+
+impl Default for RestirSettings {
+    fn default() -> Self {
+        Self {
+            direct: false,
+            candidates: 8,
+            temporal: true,
+            history_cap: 20,
+            spatial_samples: 2,
+            spatial_radius: 16.0,
+            bias: RestirBias::Biased,
+        }
+    }
+}
+
 /// The realtime mode's default firefly clamp ([`FrameSettings::firefly_clamp`]): ten times the
 /// display's white.
 pub const DEFAULT_FIREFLY_CLAMP: f32 = 10.0;
@@ -200,6 +260,8 @@ pub struct FrameSettings {
     pub firefly_clamp: f32,
     /// How the G-buffer finds the surface each pixel sees: rasterized or traced.
     pub primary: PrimaryVisibility,
+    /// The realtime and direct modes' resampled direct light.
+    pub restir: RestirSettings,
 }
 
 impl Default for FrameSettings {
@@ -215,6 +277,7 @@ impl Default for FrameSettings {
             pipeline: PipelineChoice::Specialized,
             firefly_clamp: DEFAULT_FIREFLY_CLAMP,
             primary: PrimaryVisibility::Raster,
+            restir: RestirSettings::default(),
         }
     }
 }
@@ -277,7 +340,34 @@ impl FrameSettings {
                 "finite and at least 0 (0 is off)",
             );
         }
+        let r = &self.restir;
+        if !(1..=32).contains(&r.candidates) {
+            return fail("restir.candidates", r.candidates.to_string(), "1..=32");
+        }
+        if !(1..=100).contains(&r.history_cap) {
+            return fail("restir.history_cap", r.history_cap.to_string(), "1..=100");
+        }
+        if r.spatial_samples > MAX_RESTIR_NEIGHBOURS {
+            return fail(
+                "restir.spatial_samples",
+                r.spatial_samples.to_string(),
+                "0..=8",
+            );
+        }
+        if !(1.0..=64.0).contains(&r.spatial_radius) {
+            return fail(
+                "restir.spatial_radius",
+                r.spatial_radius.to_string(),
+                "1..=64 pixels",
+            );
+        }
         Ok(())
+    }
+
+    /// Whether a frame of these settings resamples its direct light: the realtime and direct
+    /// modes do when asked (the direct mode, which accumulates, always unbiased).
+    pub fn resamples_direct_light(&self) -> bool {
+        matches!(self.mode, RenderMode::Realtime | RenderMode::Direct) && self.restir.direct
     }
 }
 
@@ -311,6 +401,12 @@ mod tests {
             ..Default::default()
         };
         assert_eq!(off.validate(), Ok(()));
+        let mut bad = FrameSettings::default();
+        bad.restir.spatial_samples = MAX_RESTIR_NEIGHBOURS + 1;
+        assert_eq!(bad.validate().unwrap_err().name, "restir.spatial_samples");
+        let mut bad = FrameSettings::default();
+        bad.restir.spatial_radius = f32::NAN;
+        assert_eq!(bad.validate().unwrap_err().name, "restir.spatial_radius");
         // The realtime mode clamps fireflies unless told not to.
         assert!(FrameSettings::default().firefly_clamp > 0.0);
     }

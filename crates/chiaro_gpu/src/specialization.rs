@@ -84,9 +84,12 @@ impl PipelineFeatures {
     /// The material extensions' textures (chiaro_scene::LayerTextures) multiply their factors,
     /// at ray hits and at the surface the G-buffer holds (found again from its triangle).
     pub const LAYER_TEXTURES: Self = Self(1 << 18);
+    /// The direct pass shades the resampled reservoirs' area light
+    /// ([`crate::settings::RestirSettings`]), and the frame asks for it.
+    pub const RESTIR_DI: Self = Self(1 << 19);
 
     /// Every flag, in bit order.
-    pub const FLAGS: [FeatureFlag; 19] = [
+    pub const FLAGS: [FeatureFlag; 20] = [
         flag(
             Self::BASE_COLOR_TEXTURES,
             "FEATURE_BASE_COLOR_TEXTURES",
@@ -165,6 +168,11 @@ impl PipelineFeatures {
             Self::LAYER_TEXTURES,
             "FEATURE_LAYER_TEXTURES",
             "material extension textures",
+        ),
+        flag(
+            Self::RESTIR_DI,
+            "FEATURE_RESTIR_DI",
+            "resampled direct light (its frame settings ask for it)",
         ),
     ];
 
@@ -277,14 +285,22 @@ pub enum PipelineChoice {
 impl PipelineChoice {
     /// The feature set to compile for a scene using `scene` (all of them when unknown), whose
     /// frame picks lights through light trees when `light_trees` (the GPU scene has a tree and
-    /// the settings ask for them: [`crate::gpu_scene::GpuScene::light_trees`]).
-    pub fn features(self, scene: Option<&SceneFeatures>, light_trees: bool) -> PipelineFeatures {
+    /// the settings ask for them: [`crate::gpu_scene::GpuScene::light_trees`]) and resamples
+    /// its direct light when `restir_di`.
+    pub fn features(
+        self,
+        scene: Option<&SceneFeatures>,
+        light_trees: bool,
+        restir_di: bool,
+    ) -> PipelineFeatures {
+        let setting = |on: bool, flag| {
+            if on { flag } else { PipelineFeatures::NONE }
+        };
         match self {
             PipelineChoice::Specialized => match scene {
-                Some(scene) if light_trees => {
-                    PipelineFeatures::of_scene(scene).with(PipelineFeatures::LIGHT_TREES)
-                }
-                Some(scene) => PipelineFeatures::of_scene(scene),
+                Some(scene) => PipelineFeatures::of_scene(scene)
+                    .with(setting(light_trees, PipelineFeatures::LIGHT_TREES))
+                    .with(setting(restir_di, PipelineFeatures::RESTIR_DI)),
                 None => PipelineFeatures::ALL,
             },
             PipelineChoice::AllFeatures => PipelineFeatures::ALL,

@@ -22,6 +22,9 @@ pub const FIRST_BOUNCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32
 pub const LDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 /// The surface each pixel of the resolve's history saw.
 pub const RESOLVE_SURFACE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
+/// Format of the resampled direct light's reservoirs and their surfaces
+/// (`shaders/lib/reservoir.wgsl`).
+pub const RESERVOIR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 
 /// A texture and its default view.
 pub struct Target {
@@ -112,6 +115,15 @@ pub struct FrameTargets {
     /// The surface each pixel of `resolve` saw (instance + 1, 0 for none), two of them like
     /// `resolve`.
     pub resolve_surface: [Target; 2],
+    /// Resampled direct light: the reservoirs of this frame's candidates merged with last
+    /// frame's (`restir_temporal`), read by the spatial pass.
+    pub reservoirs_temporal: Target,
+    /// Resampled direct light: the final reservoirs (`restir_spatial`), shaded by the direct
+    /// pass and merged by the next frame's first pass.
+    pub reservoirs: Target,
+    /// The surface (view depth, normal) of each of `reservoirs`, for the next frame's
+    /// similarity test.
+    pub reservoir_surfaces: Target,
 }
 
 impl FrameTargets {
@@ -167,6 +179,21 @@ impl FrameTargets {
                 .map(|label| Target::new(device, label, HDR_FORMAT, size, storage)),
             resolve_surface: ["resolve surfaces a", "resolve surfaces b"]
                 .map(|label| Target::new(device, label, RESOLVE_SURFACE_FORMAT, size, storage)),
+            reservoirs_temporal: Target::new(
+                device,
+                "reservoirs temporal",
+                RESERVOIR_FORMAT,
+                size,
+                storage,
+            ),
+            reservoirs: Target::new(device, "reservoirs", RESERVOIR_FORMAT, size, storage),
+            reservoir_surfaces: Target::new(
+                device,
+                "reservoir surfaces",
+                RESERVOIR_FORMAT,
+                size,
+                storage,
+            ),
         }
     }
 }

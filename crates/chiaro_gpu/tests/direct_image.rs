@@ -28,7 +28,7 @@ use std::path::Path;
 
 use bevy_ecs::prelude::{Entity, Name};
 use bevy_ecs::world::World;
-use chiaro_gpu::{FrameSettings, RenderMode, RenderSettings, Renderer};
+use chiaro_gpu::{FrameSettings, RenderMode, RenderSettings, Renderer, RestirSettings};
 use chiaro_reference::{PathSettings, render_world};
 use chiaro_scene::{AlphaMode, Environment, Materials, MeshInstance, load_scene};
 use glam::Vec3;
@@ -91,6 +91,19 @@ fn compare(
     spp: u32,
     checkpoints: &[u32],
 ) -> Option<Measured> {
+    compare_resampled(scene, env, edit, size, spp, checkpoints, false)
+}
+
+/// [`compare`], the GPU's area light resampled (ReSTIR DI) when `resampled`.
+fn compare_resampled(
+    scene: &str,
+    env: Option<&Path>,
+    edit: Edit,
+    size: u32,
+    spp: u32,
+    checkpoints: &[u32],
+    resampled: bool,
+) -> Option<Measured> {
     let gpu = common::gpu()?;
     let mut cpu_world = world(scene, env, edit);
     let reference = render_world(
@@ -121,6 +134,10 @@ fn compare(
         seed: 1,
         frame: FrameSettings {
             mode: RenderMode::Direct,
+            restir: RestirSettings {
+                direct: resampled,
+                ..RestirSettings::default()
+            },
             ..FrameSettings::default()
         },
     };
@@ -252,6 +269,38 @@ fn alpha_masked_block_is_a_hole_as_in_the_reference() {
         512,
         &[4, 64, 256],
     ) {
+        check(result);
+    }
+}
+
+#[test]
+fn resampled_cornell_direct_light_converges_to_the_reference() {
+    let result = compare_resampled(
+        "builtin:cornell",
+        None,
+        no_edit,
+        32,
+        1024,
+        &[4, 64, 256],
+        true,
+    );
+    if let Some(result) = result {
+        check(result);
+    }
+}
+
+#[test]
+fn resampled_hard_cases_converge_to_the_reference() {
+    let result = compare_resampled(
+        "builtin:hard-cases",
+        None,
+        no_edit,
+        32,
+        512,
+        &[4, 64, 256],
+        true,
+    );
+    if let Some(result) = result {
         check(result);
     }
 }

@@ -154,7 +154,10 @@ mod tests {
             let expected = w / 10.0;
             let got = kept[i] as f32 / n as f32;
             // The binomial's standard error is at most 0.0025 here.
-            assert!((got - expected).abs() < 0.01, "candidate {i}: {got} vs {expected}");
+            assert!(
+                (got - expected).abs() < 0.01,
+                "candidate {i}: {got} vs {expected}"
+            );
         }
     }
 
@@ -168,7 +171,10 @@ mod tests {
             let r = ris(&mut rng, 8, f);
             f64::from(r.sample.map_or(0.0, |y| f(y) * r.contribution_weight))
         });
-        assert!((mean - exact).abs() < 4.0 * error, "{mean} vs {exact} (+- {error})");
+        assert!(
+            (mean - exact).abs() < 4.0 * error,
+            "{mean} vs {exact} (+- {error})"
+        );
         let (plain, plain_error) = mean_and_error(100_000, || f64::from(f(rng.next_f32())));
         assert!((plain - exact).abs() < 4.0 * plain_error);
         assert!(
@@ -196,7 +202,11 @@ mod tests {
             assert_eq!(merged.count, 8);
             let t = merged.sample.map_or(0.0, f);
             merged.finish(t, merged.count);
-            f64::from(merged.sample.map_or(0.0, |y| f(y) * merged.contribution_weight))
+            f64::from(
+                merged
+                    .sample
+                    .map_or(0.0, |y| f(y) * merged.contribution_weight),
+            )
         });
         assert!(
             (mean - quadrature).abs() < 4.0 * error,

@@ -212,13 +212,16 @@ pub fn default_configs() -> Vec<BenchConfig> {
 /// The configurations measured only when asked for by name: realtime with every shader
 /// feature compiled in rather than only the scene's (what specialisation saves), direct
 /// and realtime with lights picked by power instead of through the light trees (the
-/// many-lights baseline), and realtime whose still view keeps the moving average's memory
-/// (what [`chiaro_gpu::still_view`] buys).
+/// many-lights baseline), realtime whose still view keeps the moving average's memory
+/// (what [`chiaro_gpu::still_view`] buys), and realtime with resampled direct light
+/// ([`chiaro_gpu::RestirSettings`]).
 pub fn extra_configs() -> Vec<BenchConfig> {
     let realtime = FrameSettings::default();
     let power = LightSampling::Power;
     let mut moving_average = realtime;
     moving_average.denoise.converge_when_still = false;
+    let mut restir_di = realtime;
+    restir_di.restir.direct = true;
     configs([
         (
             "direct-power",
@@ -243,6 +246,7 @@ pub fn extra_configs() -> Vec<BenchConfig> {
             },
         ),
         ("realtime-moving-average", moving_average),
+        ("realtime-restir-di", restir_di),
     ])
 }
 

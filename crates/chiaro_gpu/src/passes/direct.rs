@@ -2,7 +2,8 @@
 //! `shaders/direct.wgsl`): the light the surface reflects from punctual lights, one
 //! MIS-weighted area-light sample and one BRDF sample, each light sample with one shadow ray;
 //! and apart, the punctual lights' part when it has no sampling noise (every light evaluated),
-//! and the BRDF ray's hit for the indirect pass.
+//! and the BRDF ray's hit for the indirect pass. With resampled direct light, the area-light
+//! sample is the pixel's final reservoir's (`passes::restir`).
 
 use bytemuck::{Pod, Zeroable};
 
@@ -34,19 +35,23 @@ pub struct DirectParams {
     /// brighter one scaled down to it; 0: no clamp (`FrameSettings::firefly_clamp`, realtime
     /// mode only).
     pub firefly_clamp: f32,
+    /// 1: the area-light sample is the final reservoir's of the resampling passes
+    /// (`passes::restir`), where the pipeline has their code.
+    pub restir: u32,
     /// Padding.
-    pub pad: [u32; 2],
+    pub pad: u32,
 }
 
 /// Selects the direct pass's shader and outputs: the direct light, the part of it from
-/// punctual lights when every one is evaluated, and where its BRDF ray hit.
+/// punctual lights when every one is evaluated, and where its BRDF ray hit; its input, the
+/// resampled reservoirs.
 pub struct DirectKind;
 
 impl ShadingKind for DirectKind {
     const NAME: &'static str = "direct";
     const OUTPUT_FORMATS: &'static [wgpu::TextureFormat] =
         &[HDR_FORMAT, HDR_FORMAT, FIRST_BOUNCE_FORMAT];
-    const INPUTS: u32 = 0;
+    const INPUTS: u32 = 1;
 
     fn outputs(targets: &FrameTargets) -> Vec<&Target> {
         vec![
@@ -56,8 +61,8 @@ impl ShadingKind for DirectKind {
         ]
     }
 
-    fn inputs(_: &FrameTargets) -> Vec<&Target> {
-        Vec::new()
+    fn inputs(targets: &FrameTargets) -> Vec<&Target> {
+        vec![&targets.reservoirs]
     }
 }
 

@@ -7,6 +7,7 @@ pub mod direct;
 pub mod gbuffer;
 pub mod gbuffer_traced;
 pub mod indirect;
+pub mod restir;
 pub mod shading_pass;
 pub mod temporal;
 pub mod tonemap;

@@ -26,6 +26,10 @@ pub trait ShadingKind {
     fn outputs(targets: &FrameTargets) -> Vec<&Target>;
     /// How many images [`Self::inputs`] gives.
     const INPUTS: u32;
+    /// The formats of the first inputs, which are bound as read-only storage textures rather
+    /// than sampled ones (the scene and the G-buffer leave a pass one sampled texture of the
+    /// 16 it may bind).
+    const STORAGE_INPUT_FORMATS: &'static [wgpu::TextureFormat] = &[];
     /// The unsigned-integer images of an earlier pass that the pass reads with `textureLoad`,
     /// bound after the outputs in this order.
     fn inputs(targets: &FrameTargets) -> Vec<&Target>;
@@ -58,7 +62,10 @@ impl<K: ShadingKind> GbufferShadingPass<K> {
             ),
         ];
         let outputs = K::OUTPUT_FORMATS.iter().map(|f| super::storage_texture(*f));
-        let inputs = (0..K::INPUTS).map(|_| texture(S::Uint));
+        let inputs = (0..K::INPUTS).map(|i| match K::STORAGE_INPUT_FORMATS.get(i as usize) {
+            Some(format) => super::read_only_storage_texture(*format),
+            None => texture(S::Uint),
+        });
         entries.extend((5..).zip(outputs.chain(inputs)).map(|(b, ty)| e(b, ty)));
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some(&format!("{name} layout")),
