@@ -84,6 +84,10 @@ fn history_reservoir(pixel: vec2<i32>, depth: f32, normal: vec3<f32>, size: vec2
         return reservoir_empty();
     }
     var r = reservoir_unpack(textureLoad(previous_reservoirs, previous));
+    if r.entry != RESERVOIR_NO_SAMPLE && r.entry >= scene_info.area_count {
+        // Not an entry of this scene's table (an edit shrank it): nothing to reuse.
+        return reservoir_empty();
+    }
     reservoir_cap(&r, params.history_cap);
     return r;
 }

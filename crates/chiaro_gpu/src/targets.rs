@@ -186,7 +186,14 @@ impl FrameTargets {
                 size,
                 storage,
             ),
-            reservoirs: Target::new(device, "reservoirs", RESERVOIR_FORMAT, size, storage),
+            // Writable from the CPU: tests poison it to check that nothing spreads.
+            reservoirs: Target::new(
+                device,
+                "reservoirs",
+                RESERVOIR_FORMAT,
+                size,
+                storage | U::COPY_DST,
+            ),
             reservoir_surfaces: Target::new(
                 device,
                 "reservoir surfaces",
