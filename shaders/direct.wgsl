@@ -21,8 +21,8 @@
 // from (lib/first_bounce.wgsl).
 //
 // With resampled direct light (ReSTIR DI: restir_temporal.wgsl, restir_spatial.wgsl), the
-// area-light sample is the pixel's final reservoir's, shaded with one shadow ray and weighted
-// by its W; the reservoirs then carry all the light the area-light table reaches, so the BRDF
+// area-light sample (and the punctual light picked, where there are too many to evaluate) is
+// the pixel's final reservoir's, shaded with one shadow ray and weighted by its W; the reservoirs then carry all the light the area-light table reaches, so the BRDF
 // sample adds only what the table cannot (lib/next_event.wgsl's REACHED_UNSAMPLED: a constant
 // environment, emitters outside the table).
 
@@ -94,7 +94,7 @@ fn resampled_area_light(s: Shading, pixel: vec2<i32>) -> vec3<f32> {
     if r.entry == RESERVOIR_NO_SAMPLE || r.contribution_weight == 0.0 {
         return vec3<f32>(0.0);
     }
-    let ls = area_light_at(s, r.entry, r.u);
+    let ls = restir_light_at(s, r.entry, r.u);
     return light_contribution(s, ls).xyz * restir_measure(ls) * r.contribution_weight;
 }
 
@@ -123,8 +123,11 @@ fn main(@builtin(workgroup_id) workgroup: vec3<u32>, @builtin(local_invocation_i
         let index = id.y * size.x + id.x;
         let seed = vec2<u32>(params.seed_lo, params.seed_hi);
         var rng = pcg32_new(seed, vec2<u32>(index, params.frame));
-        // Every punctual light (or one picked), then one area-light sample.
-        punctual = punctual_light(s, &rng);
+        // Every punctual light (or one picked, unless the reservoirs hold them), then one
+        // area-light sample.
+        if !(restir_di_on(params.restir) && restir_punctual()) {
+            punctual = punctual_light(s, &rng);
+        }
         var area: vec3<f32>;
         var weighing = REACHED_MIS;
         if restir_di_on(params.restir) {

@@ -52,7 +52,7 @@ fn shading_at(pixel: vec2<i32>) -> Shading {
 // neighbour's reservoir could have produced it.
 fn could_produce(pixel: vec2<i32>, entry: u32, u: vec2<f32>) -> bool {
     let s = shading_at(pixel);
-    return restir_target(s, area_light_at(s, entry, u)) > 0.0;
+    return restir_target(s, restir_light_at(s, entry, u)) > 0.0;
 }
 
 @compute @workgroup_size(8, 8)
@@ -85,7 +85,7 @@ fn main(@builtin(workgroup_id) workgroup: vec3<u32>, @builtin(local_invocation_i
     var r = reservoir_empty();
     var kept_target = 0.0;
     if own.entry != RESERVOIR_NO_SAMPLE {
-        kept_target = restir_target(s, area_light_at(s, own.entry, own.u));
+        kept_target = restir_target(s, restir_light_at(s, own.entry, own.u));
     }
     reservoir_merge(&r, own, kept_target, pcg32_next_f32(&rng));
     var neighbours: array<vec2<i32>, MAX_NEIGHBOURS>;
@@ -110,7 +110,7 @@ fn main(@builtin(workgroup_id) workgroup: vec3<u32>, @builtin(local_invocation_i
         let other = reservoir_unpack(textureLoad(reservoirs_in, q, 0));
         var target_value = 0.0;
         if other.entry != RESERVOIR_NO_SAMPLE {
-            target_value = restir_target(s, area_light_at(s, other.entry, other.u));
+            target_value = restir_target(s, restir_light_at(s, other.entry, other.u));
         }
         if reservoir_merge(&r, other, target_value, rand) {
             kept_target = target_value;

@@ -45,19 +45,42 @@ fn light_tree_sampling() -> bool {
     return params.light_sampling == LIGHT_SAMPLING_TREE;
 }
 
-// The reservoir of `candidates` area-light samples at s.
+// One candidate's light: an area-table entry or a punctual light, and the probability of the
+// pick (0: none).
+struct CandidatePick {
+    entry: u32,
+    pmf: f32,
+}
+
+// A candidate's pick with the numbers u_kind and u_pick: a punctual light with probability
+// punctual_share (by punctual_pick), else an area-table entry (area_light_pick).
+fn candidate_pick(s: Shading, punctual_share: f32, u_kind: f32, u_pick: f32) -> CandidatePick {
+    if u_kind < punctual_share {
+        let pick = punctual_pick(s, u_pick);
+        return CandidatePick(RESERVOIR_PUNCTUAL + pick.light, punctual_share * pick.pmf);
+    }
+    let pick = area_light_pick(s, u_pick);
+    return CandidatePick(pick.entry, (1.0 - punctual_share) * pick.pmf);
+}
+
+// The reservoir of `candidates` light samples at s: area-light samples, and half of them
+// punctual lights where the reservoirs hold those (restir_punctual).
 fn initial_reservoir(s: Shading, rng: ptr<function, Pcg32>) -> Reservoir {
     var r = reservoir_empty();
     var kept_target = 0.0;
+    var punctual_share = 0.0;
+    if restir_punctual() {
+        punctual_share = select(0.5, 1.0, scene_info.area_count == 0u);
+    }
     for (var i = 0u; i < params.candidates; i++) {
-        let pick = area_light_pick(s, pcg32_next_f32(rng));
+        let pick = candidate_pick(s, punctual_share, pcg32_next_f32(rng), pcg32_next_f32(rng));
         let u = reservoir_quantise(pcg32_next_vec2(rng));
         let rand = pcg32_next_f32(rng);
         if pick.pmf == 0.0 {
             r.count += 1u;
             continue;
         }
-        let ls = area_light_at(s, pick.entry, u);
+        let ls = restir_light_at(s, pick.entry, u);
         let target_value = restir_target(s, ls);
         let source_pdf = pick.pmf * ls.pdf * restir_measure(ls);
         let weight = select(0.0, target_value / source_pdf, source_pdf > 0.0);
@@ -84,8 +107,8 @@ fn history_reservoir(pixel: vec2<i32>, depth: f32, normal: vec3<f32>, size: vec2
         return reservoir_empty();
     }
     var r = reservoir_unpack(textureLoad(previous_reservoirs, previous));
-    if r.entry != RESERVOIR_NO_SAMPLE && r.entry >= scene_info.area_count {
-        // Not an entry of this scene's table (an edit shrank it): nothing to reuse.
+    if r.entry != RESERVOIR_NO_SAMPLE && !restir_entry_valid(r.entry) {
+        // Not a light of this scene (an edit removed it): nothing to reuse.
         return reservoir_empty();
     }
     reservoir_cap(&r, params.history_cap);
@@ -126,7 +149,7 @@ fn main(@builtin(workgroup_id) workgroup: vec3<u32>, @builtin(local_invocation_i
         }
         var target_value = 0.0;
         if other.entry != RESERVOIR_NO_SAMPLE {
-            target_value = restir_target(s, area_light_at(s, other.entry, other.u));
+            target_value = restir_target(s, restir_light_at(s, other.entry, other.u));
         }
         if reservoir_merge(&r, other, target_value, pcg32_next_f32(&rng)) {
             kept_target = target_value;

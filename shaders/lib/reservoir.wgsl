@@ -6,7 +6,8 @@
 // A sample is an entry of the area-light table (an emissive triangle or the environment) and
 // the two numbers that draw its point (area_light_at), quantised to 16 bits each so that a
 // packed reservoir names exactly the sample it was weighed with; any shading point finds the
-// sample again from them. The target function is the luminance of the sample's unshadowed
+// sample again from them. Where there are more punctual lights than the direct pass evaluates
+// one by one, a sample may also be one of them (RESERVOIR_PUNCTUAL on). The target function is the luminance of the sample's unshadowed
 // reflected light, f cos L, over the emitter's area (restir_target, restir_measure).
 //
 // Packed in an rgba32uint texel: the entry (RESERVOIR_NO_SAMPLE: none), the numbers, W (f32
@@ -44,6 +45,9 @@ struct RestirParams {
 }
 
 const RESERVOIR_NO_SAMPLE: u32 = 0xffffffffu;
+// Entries from this one on are punctual lights (the light's index added), resampled with the
+// area light where the direct pass cannot evaluate every one (restir_punctual).
+const RESERVOIR_PUNCTUAL: u32 = 0x80000000u;
 
 struct Reservoir {
     entry: u32,
@@ -129,10 +133,34 @@ fn reservoir_unpack(texel: vec4<u32>) -> Reservoir {
 // Jacobian: measured 2.5 times too bright where the light is seen at grazing angles.
 // An environment direction is the same direction everywhere: solid angle, factor 1.
 fn restir_measure(ls: LightSample) -> f32 {
-    if !f32_is_finite(ls.distance) {
+    // A punctual light is one point, counted (its sample's pdf is 1 everywhere).
+    if ls.delta || !f32_is_finite(ls.distance) {
         return 1.0;
     }
     return select(0.0, 1.0 / ls.pdf, ls.pdf > 0.0);
+}
+
+// Whether the reservoirs hold punctual lights too: there are more than the direct pass
+// evaluates one by one, and the pipeline has a punctual kind.
+fn restir_punctual() -> bool {
+    return !punctual_lights_all_evaluated() && scene_info.light_count > 0u
+        && (FEATURE_POINT_LIGHTS || FEATURE_SPOT_LIGHTS || FEATURE_DIRECTIONAL_LIGHTS);
+}
+
+// Whether `entry` names a light of this scene that the reservoirs may hold.
+fn restir_entry_valid(entry: u32) -> bool {
+    if entry >= RESERVOIR_PUNCTUAL {
+        return restir_punctual() && entry - RESERVOIR_PUNCTUAL < scene_info.light_count;
+    }
+    return entry < scene_info.area_count;
+}
+
+// The light sample a reservoir entry names, seen from s.
+fn restir_light_at(s: Shading, entry: u32, u: vec2<f32>) -> LightSample {
+    if entry >= RESERVOIR_PUNCTUAL {
+        return sample_punctual(scene_light(entry - RESERVOIR_PUNCTUAL), s.position);
+    }
+    return area_light_at(s, entry, u);
 }
 
 // The target function at s of a light sample: the luminance of f cos L before its shadow ray,

@@ -304,3 +304,13 @@ fn resampled_hard_cases_converge_to_the_reference() {
         check(result);
     }
 }
+
+#[test]
+fn resampled_many_lights_converge_to_the_reference() {
+    // The reservoirs hold the punctual lights too: there are more than the pass evaluates.
+    let scene = "builtin:many-lights";
+    let result = compare_resampled(scene, None, no_edit, 32, 512, &[4, 64, 256], true);
+    if let Some(result) = result {
+        check(result);
+    }
+}
