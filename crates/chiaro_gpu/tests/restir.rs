@@ -22,6 +22,7 @@ fn settings() -> RenderSettings {
         frame: FrameSettings {
             restir: RestirSettings {
                 direct: true,
+                temporal: true,
                 ..RestirSettings::default()
             },
             ..FrameSettings::default()

@@ -173,6 +173,9 @@ pub struct BenchConfig {
     pub settings: RenderSettings,
 }
 
+/// The realtime configuration with resampled direct light.
+pub const RESTIR_DI_CONFIG: &str = "realtime-restir-di";
+
 /// The realtime configuration compiled with every shader feature, whatever the scene uses.
 pub const ALL_FEATURES_CONFIG: &str = "realtime-all-features";
 
@@ -246,8 +249,24 @@ pub fn extra_configs() -> Vec<BenchConfig> {
             },
         ),
         ("realtime-moving-average", moving_average),
-        ("realtime-restir-di", restir_di),
+        (RESTIR_DI_CONFIG, restir_di),
     ])
+}
+
+/// The runs along the camera path: the realtime frame as it ships (`realtime-path`), and with
+/// resampled direct light (`realtime-restir-di-path`) when `configs` measure that.
+fn path_configs(configs: &[BenchConfig]) -> Vec<BenchConfig> {
+    let mut paths = vec![BenchConfig {
+        name: PATH_CONFIG.into(),
+        settings: RenderSettings::default(),
+    }];
+    if let Some(restir) = configs.iter().find(|c| c.name == RESTIR_DI_CONFIG) {
+        paths.push(BenchConfig {
+            name: format!("{RESTIR_DI_CONFIG}-path"),
+            settings: restir.settings.clone(),
+        });
+    }
+    paths
 }
 
 fn configs<const N: usize>(named: [(&str, FrameSettings); N]) -> Vec<BenchConfig> {
@@ -435,20 +454,16 @@ impl Pending<'_> {
     }
 }
 
-/// The realtime configuration along the camera path, against the scene's converged reference
-/// (every checkpoint is at the camera's own pose).
+/// `config` along the camera path, against the scene's converged reference (every checkpoint
+/// is at the camera's own pose).
 fn measure_path(
     renderer: &mut Renderer,
     world: &mut World,
-    scene: &BenchScene,
+    (scene, config): (&BenchScene, &BenchConfig),
     settings: &BenchSettings,
     reference: &HdrImage,
 ) -> Result<RunResult, BenchError> {
     let base = camera_transform(world, &scene.label())?;
-    let config = BenchConfig {
-        name: PATH_CONFIG.into(),
-        settings: RenderSettings::default(),
-    };
     let references = vec![reference; settings.checkpoints.len()];
     measure(renderer, world, &config, settings, &references, Some(&base))
 }
@@ -517,15 +532,20 @@ pub fn run_bench(
                 renderer, &mut world, config, settings, &statics, None,
             )?);
         }
-        if settings.camera_path {
+        for config in settings
+            .camera_path
+            .then(|| path_configs(configs))
+            .into_iter()
+            .flatten()
+        {
             progress(BenchProgress::Run {
                 scene: scene.label(),
-                config: PATH_CONFIG.into(),
+                config: config.name.clone(),
             });
             runs.push(measure_path(
                 renderer,
                 &mut world,
-                scene,
+                (scene, &config),
                 settings,
                 &reference.image,
             )?);
