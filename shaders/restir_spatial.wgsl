@@ -5,13 +5,16 @@
 // pixels, each only where its surface is similar (view depth within 10%, normals within 25
 // degrees). Each enters with weight target-here times W times M.
 //
-// Bias: normalising by the total M (unbiased = 0) is biased where a neighbour cannot produce
-// the sample kept (a sample below its horizon, or on an emitter's back as it sees it): the
-// image darkens at creases. With unbiased = 1 the sum is normalised by Z, the M of only those
-// reservoirs (this pixel's and the neighbours') whose surface has a positive target for the
-// sample kept (Bitterli et al., section 4.3; the targets are unshadowed, so no visibility ray
-// is needed). The frame uses Z where it converges (the direct mode, a still view:
-// chiaro_gpu::passes::restir).
+// Bias: with unbiased = 0 each reservoir enters with weight target-here x W x M and the sum is
+// normalised by the total M (1/M): biased where a neighbour cannot produce the sample kept (a
+// sample below its horizon, or on an emitter's back as it sees it), which darkens creases. With
+// unbiased = 1 each enters with the generalised balance heuristic's weight, M_i p_i(x_i) over
+// the sum over the reservoirs j of M_j p_j(x_i), where p_j is reservoir j's surface's target
+// (Lin et al., "Generalized Resampled Importance Sampling", SIGGRAPH 2022, section 5; the
+// targets are unshadowed, so no visibility ray is needed): unbiased, and without the fireflies
+// of Bitterli et al.'s 1/Z where few neighbours can produce a sample, at the cost of the
+// square of the reservoirs' count in target evaluations. The frame uses it where it converges
+// (the direct mode, a still view: chiaro_gpu::passes::restir).
 //
 // Writes the final reservoirs, which the direct pass shades (one shadow ray) and the next
 // frame's first pass merges, and the surface each belongs to.
@@ -33,8 +36,9 @@
 // The first pass's reservoirs.
 @group(1) @binding(7) var reservoirs_in: texture_2d<u32>;
 
-// Most neighbours merged (FrameSettings validation keeps spatial_samples within it).
-const MAX_NEIGHBOURS: u32 = 8u;
+// This pixel and the most neighbours merged (FrameSettings validation keeps spatial_samples
+// within it).
+const MAX_DOMAINS: u32 = 9u;
 // Keeps this pass's numbers apart from the first pass's and the direct pass's.
 const RESTIR_SPATIAL_SEED: vec2<u32> = vec2<u32>(0x68e31da4u, 0xb5297a4du);
 
@@ -48,11 +52,14 @@ fn shading_at(pixel: vec2<i32>) -> Shading {
     return gbuffer_shading(gbuffer_unpack(gbuffer_load(pixel)), gbuffer_triangle_at(pixel), camera);
 }
 
-// Whether the sample (entry, u) has a positive target at the neighbour's surface: whether the
-// neighbour's reservoir could have produced it.
-fn could_produce(pixel: vec2<i32>, entry: u32, u: vec2<f32>) -> bool {
-    let s = shading_at(pixel);
-    return restir_target(s, restir_light_at(s, entry, u)) > 0.0;
+// The target at the surface of pixel q (domain j > 0) or of this pixel (domain 0, `s`) of the
+// sample (entry, u).
+fn target_at(j: u32, q: vec2<i32>, s: Shading, entry: u32, u: vec2<f32>) -> f32 {
+    var at = s;
+    if j > 0u {
+        at = shading_at(q);
+    }
+    return restir_target(at, restir_light_at(at, entry, u));
 }
 
 @compute @workgroup_size(8, 8)
@@ -82,18 +89,14 @@ fn main(@builtin(workgroup_id) workgroup: vec3<u32>, @builtin(local_invocation_i
     let seed = vec2<u32>(params.seed_lo, params.seed_hi) ^ RESTIR_SPATIAL_SEED;
     var rng = pcg32_new(seed, vec2<u32>(index, params.frame));
 
-    var r = reservoir_empty();
-    var kept_target = 0.0;
-    if own.entry != RESERVOIR_NO_SAMPLE {
-        kept_target = restir_target(s, restir_light_at(s, own.entry, own.u));
-    }
-    reservoir_merge(&r, own, kept_target, pcg32_next_f32(&rng));
-    var neighbours: array<vec2<i32>, MAX_NEIGHBOURS>;
-    var counts: array<u32, MAX_NEIGHBOURS>;
-    var found = 0u;
-    for (var i = 0u; i < min(params.spatial_samples, MAX_NEIGHBOURS); i++) {
+    // Domain 0 is this pixel, then the similar neighbours found.
+    var pixels: array<vec2<i32>, MAX_DOMAINS>;
+    var found_reservoirs: array<Reservoir, MAX_DOMAINS>;
+    pixels[0] = pixel;
+    found_reservoirs[0] = own;
+    var found = 1u;
+    for (var i = 0u; i < min(params.spatial_samples, MAX_DOMAINS - 1u); i++) {
         let disc = concentric_disk(pcg32_next_vec2(&rng)) * params.spatial_radius;
-        let rand = pcg32_next_f32(&rng);
         let q = pixel + vec2<i32>(round(disc));
         if all(q == pixel) || any(q < vec2<i32>(0)) || any(q >= vec2<i32>(size)) {
             continue;
@@ -107,29 +110,47 @@ fn main(@builtin(workgroup_id) workgroup: vec3<u32>, @builtin(local_invocation_i
         if !n.shades || !reservoir_surface_similar(neighbour_surface, depth, g.shading_normal) {
             continue;
         }
-        let other = reservoir_unpack(textureLoad(reservoirs_in, q, 0));
-        var target_value = 0.0;
-        if other.entry != RESERVOIR_NO_SAMPLE {
-            target_value = restir_target(s, restir_light_at(s, other.entry, other.u));
-        }
-        if reservoir_merge(&r, other, target_value, rand) {
-            kept_target = target_value;
-        }
-        neighbours[found] = q;
-        counts[found] = other.count;
+        pixels[found] = q;
+        found_reservoirs[found] = reservoir_unpack(textureLoad(reservoirs_in, q, 0));
         found += 1u;
     }
-    var normaliser = r.count;
-    if params.unbiased != 0u && r.entry != RESERVOIR_NO_SAMPLE {
-        // Z: this pixel's M (its target for the sample is kept_target > 0) and the M of each
-        // neighbour that could have produced the sample.
-        normaliser = own.count;
-        for (var i = 0u; i < found; i++) {
-            if could_produce(neighbours[i], r.entry, r.u) {
-                normaliser += counts[i];
+
+    var r = reservoir_empty();
+    var kept_target = 0.0;
+    for (var i = 0u; i < found; i++) {
+        let other = found_reservoirs[i];
+        let rand = pcg32_next_f32(&rng);
+        if other.entry == RESERVOIR_NO_SAMPLE {
+            r.count += other.count;
+            continue;
+        }
+        let here = restir_target(s, restir_light_at(s, other.entry, other.u));
+        var weight = here * other.contribution_weight;
+        if params.unbiased != 0u {
+            // The generalised balance heuristic: M_i p_i(x_i) over the sum of M_j p_j(x_i).
+            var own_term = 0.0;
+            var total = 0.0;
+            for (var j = 0u; j < found; j++) {
+                var t = here;
+                if j > 0u {
+                    t = target_at(j, pixels[j], s, other.entry, other.u);
+                }
+                let term = f32(found_reservoirs[j].count) * t;
+                total += term;
+                if j == i {
+                    own_term = term;
+                }
             }
+            weight *= select(0.0, own_term / total, total > 0.0);
+        } else {
+            weight *= f32(other.count);
+        }
+        if reservoir_stream(&r, other.entry, other.u, weight, other.count, rand) {
+            kept_target = here;
         }
     }
+    // 1/M, or the balance heuristic's weights already sum to one.
+    let normaliser = select(r.count, 1u, params.unbiased != 0u);
     reservoir_finish(&r, kept_target, normaliser);
     textureStore(reservoirs_out, pixel, reservoir_pack(r));
     textureStore(surfaces_out, pixel, reservoir_surface_pack(depth, g.shading_normal));

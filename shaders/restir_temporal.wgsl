@@ -52,28 +52,37 @@ struct CandidatePick {
     pmf: f32,
 }
 
-// A candidate's pick with the numbers u_kind and u_pick: a punctual light with probability
-// punctual_share (by punctual_pick), else an area-table entry (area_light_pick).
-fn candidate_pick(s: Shading, punctual_share: f32, u_kind: f32, u_pick: f32) -> CandidatePick {
-    if u_kind < punctual_share {
+// A candidate's pick with the number u_pick: a punctual light (by punctual_pick) or an
+// area-table entry (area_light_pick), its probability scaled by the share of the candidates
+// of its kind: the candidates are a fixed mixture of the two, whose lights are disjoint, so
+// that share times the pick's probability is the mixture's density (the balance heuristic's
+// weight of each candidate).
+fn candidate_pick(s: Shading, punctual: bool, share: f32, u_pick: f32) -> CandidatePick {
+    if punctual {
         let pick = punctual_pick(s, u_pick);
-        return CandidatePick(RESERVOIR_PUNCTUAL + pick.light, punctual_share * pick.pmf);
+        return CandidatePick(RESERVOIR_PUNCTUAL + pick.light, share * pick.pmf);
     }
     let pick = area_light_pick(s, u_pick);
-    return CandidatePick(pick.entry, (1.0 - punctual_share) * pick.pmf);
+    return CandidatePick(pick.entry, share * pick.pmf);
 }
 
-// The reservoir of `candidates` light samples at s: area-light samples, and half of them
-// punctual lights where the reservoirs hold those (restir_punctual).
+// The reservoir of `candidates` light samples at s: area-light samples, the first half of them
+// punctual lights where the reservoirs hold those (restir_punctual; all of them where there is
+// no area light). The kind follows the candidate's number, the same in every lane, so a lane
+// never runs the other kind's walk masked.
 fn initial_reservoir(s: Shading, rng: ptr<function, Pcg32>) -> Reservoir {
     var r = reservoir_empty();
     var kept_target = 0.0;
-    var punctual_share = 0.0;
+    let n = params.candidates;
+    var n_punctual = 0u;
     if restir_punctual() {
-        punctual_share = select(0.5, 1.0, scene_info.area_count == 0u);
+        n_punctual = select(max(n / 2u, 1u), n, scene_info.area_count == 0u);
     }
-    for (var i = 0u; i < params.candidates; i++) {
-        let pick = candidate_pick(s, punctual_share, pcg32_next_f32(rng), pcg32_next_f32(rng));
+    for (var i = 0u; i < n; i++) {
+        let punctual = i < n_punctual;
+        let kind_count = select(n - n_punctual, n_punctual, punctual);
+        let share = f32(kind_count) / f32(n);
+        let pick = candidate_pick(s, punctual, share, pcg32_next_f32(rng));
         let u = reservoir_quantise(pcg32_next_vec2(rng));
         let rand = pcg32_next_f32(rng);
         if pick.pmf == 0.0 {

@@ -1,7 +1,8 @@
 // Reservoirs of area-light samples for resampled direct light (ReSTIR DI: Bitterli et al.,
 // "Spatiotemporal Reservoir Resampling for Real-Time Ray Tracing with Dynamic Direct
 // Lighting", SIGGRAPH 2020), mirroring chiaro_shading::reservoir: streaming a candidate,
-// merging another reservoir, the contribution weight W normalised by the count M or by Z.
+// merging another reservoir, the contribution weight W normalised by the count M or by Z (or
+// by 1 where the merge's weights are already normalised: restir_spatial.wgsl).
 //
 // A sample is an entry of the area-light table (an emissive triangle or the environment) and
 // the two numbers that draw its point (area_light_at), quantised to 16 bits each so that a
@@ -38,7 +39,7 @@ struct RestirParams {
     spatial_samples: u32,
     // Radius of the disc the neighbours are drawn in, in pixels.
     spatial_radius: f32,
-    // 1: normalise by Z, with a visibility ray from each neighbour (unbiased); 0: by M.
+    // 1: weigh neighbours by the generalised balance heuristic (unbiased); 0: normalise by M.
     unbiased: u32,
     pad0: u32,
     pad1: u32,

@@ -148,36 +148,38 @@ impl Default for DenoiseSettings {
     }
 }
 
-/// How the spatial reuse of resampled direct light normalises its merged reservoirs
-/// (`shaders/restir_spatial.wgsl`; Bitterli et al. 2020, section 4.3).
+/// How the spatial reuse of resampled direct light weighs its merged reservoirs
+/// (`shaders/restir_spatial.wgsl`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum RestirBias {
-    /// By the total count M: no extra rays, and darker where a neighbour cannot see the
-    /// sample kept (contact shadows, creases). A still view that converges
-    /// ([`DenoiseSettings::converge_when_still`]) is normalised by Z all the same.
+    /// Each by its count M, the sum normalised by the total (Bitterli et al. 2020): darker
+    /// where a neighbour cannot produce the sample kept (below its horizon: creases). A still view that converges
+    /// ([`DenoiseSettings::converge_when_still`]) is weighed as `Unbiased` all the same.
     #[default]
     Biased,
-    /// By Z, the counts of the reservoirs that could have produced the sample kept: one
-    /// visibility ray and one target evaluation per neighbour.
+    /// By the generalised balance heuristic over the reservoirs' surfaces (Lin et al. 2022):
+    /// the square of the reservoirs' count in target evaluations, no extra ray.
     Unbiased,
 }
 
 /// Most neighbours the spatial reuse of resampled direct light merges.
 pub const MAX_RESTIR_NEIGHBOURS: u32 = 8;
 
-/// Resampled direct light of the realtime and direct modes (ReSTIR DI: Bitterli et al., "Spatiotemporal
-/// Reservoir Resampling for Real-Time Ray Tracing with Dynamic Direct Lighting", SIGGRAPH
-/// 2020): the area light (emissive triangles, an image environment) is drawn as `candidates`
-/// samples resampled into a reservoir per pixel, merged with last frame's along the motion
-/// vectors and with neighbours', and the survivor shaded with one shadow ray. Punctual lights
-/// are evaluated as without it. Off, the resampling passes do not run and the direct pass is
+/// Resampled direct light of the realtime and direct modes (ReSTIR DI: Bitterli et al.,
+/// "Spatiotemporal Reservoir Resampling for Real-Time Ray Tracing with Dynamic Direct
+/// Lighting", SIGGRAPH 2020): the area light (emissive triangles, an image environment; the
+/// punctual lights too where there are more than the direct pass evaluates one by one) is
+/// drawn as `candidates` samples resampled into a reservoir per pixel, merged with last
+/// frame's along the motion vectors (when `temporal`) and with neighbours', and the survivor
+/// shaded with one shadow ray. Off, the resampling passes do not run and the direct pass is
 /// compiled without their code.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RestirSettings {
     /// Whether the realtime (and direct) mode resamples its area light.
     pub direct: bool,
-    /// Area-light candidates drawn per pixel per frame (each one light pick and one BRDF
-    /// evaluation; one shadow ray for all). More: a better reservoir, more time.
+    /// Light candidates drawn per pixel per frame, 2 to 32 (each one light pick and one BRDF
+    /// evaluation, no shadow ray; where the reservoirs hold punctual lights too, half of them
+    /// are). More: a better reservoir, more time.
     pub candidates: u32,
     /// Whether last frame's reservoirs are merged (temporal reuse). Off by default: along the
     /// bench's camera path on many-lights (lavapipe, 128x128) it raised the error after 16
@@ -344,8 +346,8 @@ impl FrameSettings {
             );
         }
         let r = &self.restir;
-        if !(1..=32).contains(&r.candidates) {
-            return fail("restir.candidates", r.candidates.to_string(), "1..=32");
+        if !(2..=32).contains(&r.candidates) {
+            return fail("restir.candidates", r.candidates.to_string(), "2..=32");
         }
         if !(1..=100).contains(&r.history_cap) {
             return fail("restir.history_cap", r.history_cap.to_string(), "1..=100");

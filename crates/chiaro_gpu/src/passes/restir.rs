@@ -32,7 +32,7 @@ pub struct RestirParams {
     pub spatial_samples: u32,
     /// Radius of their disc, in pixels.
     pub spatial_radius: f32,
-    /// 1: spatial reuse normalised by Z (unbiased); 0: by M.
+    /// 1: spatial reuse weighted by the generalised balance heuristic (unbiased); 0: by M.
     pub unbiased: u32,
     /// Padding to 16 bytes.
     pub pad: [u32; 2],
@@ -42,7 +42,8 @@ impl RestirParams {
     /// The parameters of a frame of `settings`: `history` says last frame's reservoirs belong
     /// to this view (not the first frame, nor after a reset); `converging` says the frame is
     /// averaged into a running mean (the direct mode, a still view), which merges no history
-    /// and normalises spatial reuse by Z, so that the mean converges to the unbiased image:
+    /// and weighs spatial reuse by the balance heuristic, so that the mean converges to the
+    /// unbiased image:
     /// last frame's reservoir, normalised by M, belongs to another jittered point whose
     /// target's support differs a little (measured on the hard cases in the direct mode, 256
     /// frames: the lit interior 0.27% dark, 4.4 standard errors), and the running mean itself
