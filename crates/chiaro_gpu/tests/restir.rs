@@ -101,7 +101,7 @@ fn reservoirs_keep_history_in_motion_and_restart_after_a_jump() {
 
 #[test]
 fn a_nan_in_last_frames_reservoirs_does_not_reach_the_image() {
-    let Some((mut renderer, device, queue)) = renderer() else {
+    let Some((mut renderer, _, queue)) = renderer() else {
         return;
     };
     let mut world = cornell();

@@ -263,7 +263,7 @@ fn path_configs(configs: &[BenchConfig]) -> Vec<BenchConfig> {
     if let Some(restir) = configs.iter().find(|c| c.name == RESTIR_DI_CONFIG) {
         paths.push(BenchConfig {
             name: format!("{RESTIR_DI_CONFIG}-path"),
-            settings: restir.settings.clone(),
+            settings: restir.settings,
         });
     }
     paths
@@ -465,7 +465,7 @@ fn measure_path(
 ) -> Result<RunResult, BenchError> {
     let base = camera_transform(world, &scene.label())?;
     let references = vec![reference; settings.checkpoints.len()];
-    measure(renderer, world, &config, settings, &references, Some(&base))
+    measure(renderer, world, config, settings, &references, Some(&base))
 }
 
 /// The converged reference of `scene` as `world` holds it (posed, if it is), at the
