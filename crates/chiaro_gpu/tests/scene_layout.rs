@@ -8,6 +8,7 @@ use chiaro_bvh::{BvhTriangle, GpuInstance, TlasNode};
 use chiaro_gpu::gpu_scene::layout::*;
 use chiaro_gpu::passes::direct::DirectParams;
 use chiaro_gpu::passes::indirect::IndirectParams;
+use chiaro_gpu::passes::restir::RestirParams;
 use chiaro_gpu::shaders;
 
 /// A WGSL struct: name, size, (member name, offset) in order.
@@ -247,9 +248,30 @@ fn pass_params_match_their_wgsl_structs() {
             ("lights", offset_of!(DirectParams, lights)),
             ("light_sampling", offset_of!(DirectParams, light_sampling)),
             ("firefly_clamp", offset_of!(DirectParams, firefly_clamp)),
-            ("pad0", offset_of!(DirectParams, pad)),
+            ("restir", offset_of!(DirectParams, restir)),
+            ("pad1", offset_of!(DirectParams, pad)),
         ],
     );
+    for shader in ["restir_temporal.wgsl", "restir_spatial.wgsl"] {
+        check_fields(
+            &wgsl_structs(shader),
+            "RestirParams",
+            size_of::<RestirParams>(),
+            &[
+                ("frame", offset_of!(RestirParams, frame)),
+                ("seed_lo", offset_of!(RestirParams, seed_lo)),
+                ("seed_hi", offset_of!(RestirParams, seed_hi)),
+                ("light_sampling", offset_of!(RestirParams, light_sampling)),
+                ("candidates", offset_of!(RestirParams, candidates)),
+                ("temporal", offset_of!(RestirParams, temporal)),
+                ("history_cap", offset_of!(RestirParams, history_cap)),
+                ("spatial_samples", offset_of!(RestirParams, spatial_samples)),
+                ("spatial_radius", offset_of!(RestirParams, spatial_radius)),
+                ("unbiased", offset_of!(RestirParams, unbiased)),
+                ("pad0", offset_of!(RestirParams, pad)),
+            ],
+        );
+    }
 }
 
 #[test]
