@@ -22,9 +22,10 @@
 //
 // With resampled direct light (ReSTIR DI: restir_temporal.wgsl, restir_spatial.wgsl), the
 // area-light sample (and the punctual light picked, where there are too many to evaluate) is
-// the pixel's final reservoir's, shaded with one shadow ray and weighted by its W; the reservoirs then carry all the light the area-light table reaches, so the BRDF
-// sample adds only what the table cannot (lib/next_event.wgsl's REACHED_UNSAMPLED: a constant
-// environment, emitters outside the table).
+// the pixel's final reservoir's, shaded with one shadow ray and weighted by its W. The
+// reservoirs then carry all the light the area-light table reaches, so the BRDF sample adds
+// only what the table cannot (lib/next_event.wgsl's REACHED_UNSAMPLED: a constant environment,
+// emitters outside the table).
 
 #import lib/generated.wgsl
 #import lib/float.wgsl

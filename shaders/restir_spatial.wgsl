@@ -3,7 +3,7 @@
 // algorithms 3 and 4): each pixel's reservoir of the first pass (restir_temporal.wgsl) merged
 // with those of `spatial_samples` neighbours drawn uniformly in a disc of `spatial_radius`
 // pixels, each only where its surface is similar (view depth within 10%, normals within 25
-// degrees). Each enters with weight target-here times W times M.
+// degrees).
 //
 // Bias: with unbiased = 0 each reservoir enters with weight target-here x W x M and the sum is
 // normalised by the total M (1/M): biased where a neighbour cannot produce the sample kept (a
@@ -47,18 +47,9 @@ fn light_tree_sampling() -> bool {
     return params.light_sampling == LIGHT_SAMPLING_TREE;
 }
 
-// The shading point at a covered, shading pixel.
-fn shading_at(pixel: vec2<i32>) -> Shading {
-    return gbuffer_shading(gbuffer_unpack(gbuffer_load(pixel)), gbuffer_triangle_at(pixel), camera);
-}
-
-// The target at the surface of pixel q (domain j > 0) or of this pixel (domain 0, `s`) of the
-// sample (entry, u).
-fn target_at(j: u32, q: vec2<i32>, s: Shading, entry: u32, u: vec2<f32>) -> f32 {
-    var at = s;
-    if j > 0u {
-        at = shading_at(q);
-    }
+// The target of the sample (entry, u) at the surface pixel q sees.
+fn target_at(q: vec2<i32>, entry: u32, u: vec2<f32>) -> f32 {
+    let at = gbuffer_shading(gbuffer_unpack(gbuffer_load(q)), gbuffer_triangle_at(q), camera);
     return restir_target(at, restir_light_at(at, entry, u));
 }
 
@@ -72,13 +63,8 @@ fn main(@builtin(workgroup_id) workgroup: vec3<u32>, @builtin(local_invocation_i
     let pixel = vec2<i32>(id.xy);
     let texels = gbuffer_load(pixel);
     let own = reservoir_unpack(textureLoad(reservoirs_in, pixel, 0));
-    if !gbuffer_covered(texels) {
-        textureStore(reservoirs_out, pixel, reservoir_pack(reservoir_empty()));
-        textureStore(surfaces_out, pixel, reservoir_no_surface());
-        return;
-    }
     let g = gbuffer_unpack(texels);
-    if !g.shades {
+    if !gbuffer_covered(texels) || !g.shades {
         textureStore(reservoirs_out, pixel, reservoir_pack(reservoir_empty()));
         textureStore(surfaces_out, pixel, reservoir_no_surface());
         return;
@@ -102,12 +88,10 @@ fn main(@builtin(workgroup_id) workgroup: vec3<u32>, @builtin(local_invocation_i
             continue;
         }
         let neighbour_texels = gbuffer_load(q);
-        if !gbuffer_covered(neighbour_texels) {
-            continue;
-        }
         let n = gbuffer_unpack(neighbour_texels);
-        let neighbour_surface = reservoir_surface_pack(reservoir_depth(camera, n.position), n.shading_normal);
-        if !n.shades || !reservoir_surface_similar(neighbour_surface, depth, g.shading_normal) {
+        let n_depth = reservoir_depth(camera, n.position);
+        if !gbuffer_covered(neighbour_texels) || !n.shades
+            || !reservoir_surfaces_similar(n_depth, n.shading_normal, depth, g.shading_normal) {
             continue;
         }
         pixels[found] = q;
@@ -133,7 +117,7 @@ fn main(@builtin(workgroup_id) workgroup: vec3<u32>, @builtin(local_invocation_i
             for (var j = 0u; j < found; j++) {
                 var t = here;
                 if j > 0u {
-                    t = target_at(j, pixels[j], s, other.entry, other.u);
+                    t = target_at(pixels[j], other.entry, other.u);
                 }
                 let term = f32(found_reservoirs[j].count) * t;
                 total += term;

@@ -69,10 +69,9 @@ fn candidate_pick(s: Shading, punctual: bool, share: f32, u_pick: f32) -> Candid
 // The reservoir of `candidates` light samples at s: area-light samples, the first half of them
 // punctual lights where the reservoirs hold those (restir_punctual; all of them where there is
 // no area light). The kind follows the candidate's number, the same in every lane, so a lane
-// never runs the other kind's walk masked.
-fn initial_reservoir(s: Shading, rng: ptr<function, Pcg32>) -> Reservoir {
+// never runs the other kind's walk masked. `kept_target` gets the target of the sample kept.
+fn initial_reservoir(s: Shading, rng: ptr<function, Pcg32>, kept_target: ptr<function, f32>) -> Reservoir {
     var r = reservoir_empty();
-    var kept_target = 0.0;
     let n = params.candidates;
     var n_punctual = 0u;
     if restir_punctual() {
@@ -94,10 +93,10 @@ fn initial_reservoir(s: Shading, rng: ptr<function, Pcg32>) -> Reservoir {
         let source_pdf = pick.pmf * ls.pdf * restir_measure(ls);
         let weight = select(0.0, target_value / source_pdf, source_pdf > 0.0);
         if reservoir_stream(&r, pick.entry, u, weight, 1u, rand) {
-            kept_target = target_value;
+            *kept_target = target_value;
         }
     }
-    reservoir_finish(&r, kept_target, r.count);
+    reservoir_finish(&r, *kept_target, r.count);
     return r;
 }
 
@@ -133,12 +132,8 @@ fn main(@builtin(workgroup_id) workgroup: vec3<u32>, @builtin(local_invocation_i
     }
     let pixel = vec2<i32>(id.xy);
     let texels = gbuffer_load(pixel);
-    if !gbuffer_covered(texels) {
-        textureStore(reservoirs_out, pixel, reservoir_pack(reservoir_empty()));
-        return;
-    }
     let g = gbuffer_unpack(texels);
-    if !g.shades {
+    if !gbuffer_covered(texels) || !g.shades {
         textureStore(reservoirs_out, pixel, reservoir_pack(reservoir_empty()));
         return;
     }
@@ -146,23 +141,21 @@ fn main(@builtin(workgroup_id) workgroup: vec3<u32>, @builtin(local_invocation_i
     let index = id.y * size.x + id.x;
     let seed = vec2<u32>(params.seed_lo, params.seed_hi) ^ RESTIR_TEMPORAL_SEED;
     var rng = pcg32_new(seed, vec2<u32>(index, params.frame));
-    let initial = initial_reservoir(s, &rng);
+    var initial_target = 0.0;
+    let initial = initial_reservoir(s, &rng, &initial_target);
     let history = history_reservoir(pixel, reservoir_depth(camera, g.position), g.shading_normal, size);
-    // Both enter by target here times W times M; the initial one's target is its own.
+    var history_target = 0.0;
+    if history.entry != RESERVOIR_NO_SAMPLE {
+        history_target = restir_target(s, restir_light_at(s, history.entry, history.u));
+    }
+    // Both enter by target here times W times M.
     var r = reservoir_empty();
     var kept_target = 0.0;
-    for (var i = 0u; i < 2u; i++) {
-        var other = history;
-        if i == 0u {
-            other = initial;
-        }
-        var target_value = 0.0;
-        if other.entry != RESERVOIR_NO_SAMPLE {
-            target_value = restir_target(s, restir_light_at(s, other.entry, other.u));
-        }
-        if reservoir_merge(&r, other, target_value, pcg32_next_f32(&rng)) {
-            kept_target = target_value;
-        }
+    if reservoir_merge(&r, initial, initial_target, pcg32_next_f32(&rng)) {
+        kept_target = initial_target;
+    }
+    if reservoir_merge(&r, history, history_target, pcg32_next_f32(&rng)) {
+        kept_target = history_target;
     }
     reservoir_finish(&r, kept_target, r.count);
     textureStore(reservoirs_out, pixel, reservoir_pack(r));

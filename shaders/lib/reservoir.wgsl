@@ -1,15 +1,16 @@
-// Reservoirs of area-light samples for resampled direct light (ReSTIR DI: Bitterli et al.,
+// Reservoirs of light samples for resampled direct light (ReSTIR DI: Bitterli et al.,
 // "Spatiotemporal Reservoir Resampling for Real-Time Ray Tracing with Dynamic Direct
 // Lighting", SIGGRAPH 2020), mirroring chiaro_shading::reservoir: streaming a candidate,
-// merging another reservoir, the contribution weight W normalised by the count M or by Z (or
-// by 1 where the merge's weights are already normalised: restir_spatial.wgsl).
+// merging another reservoir, the contribution weight W normalised by the count M (or by 1
+// where the merge's weights already sum to one: restir_spatial.wgsl).
 //
 // A sample is an entry of the area-light table (an emissive triangle or the environment) and
 // the two numbers that draw its point (area_light_at), quantised to 16 bits each so that a
 // packed reservoir names exactly the sample it was weighed with; any shading point finds the
 // sample again from them. Where there are more punctual lights than the direct pass evaluates
-// one by one, a sample may also be one of them (RESERVOIR_PUNCTUAL on). The target function is the luminance of the sample's unshadowed
-// reflected light, f cos L, over the emitter's area (restir_target, restir_measure).
+// one by one, a sample may also be one of them (RESERVOIR_PUNCTUAL on). The target function is
+// the luminance of the sample's unshadowed reflected light, f cos L, over the emitter's area
+// (restir_target, restir_measure).
 //
 // Packed in an rgba32uint texel: the entry (RESERVOIR_NO_SAMPLE: none), the numbers, W (f32
 // bits) and M. The surface a reservoir belongs to is packed apart (reservoir_surface_pack):
@@ -29,7 +30,7 @@ struct RestirParams {
     seed_hi: u32,
     // LIGHT_SAMPLING_POWER or LIGHT_SAMPLING_TREE.
     light_sampling: u32,
-    // Area-light candidates drawn per pixel.
+    // Light candidates drawn per pixel.
     candidates: u32,
     // 1: merge last frame's reservoirs (0 on the first frame and after a reset).
     temporal: u32,
@@ -97,8 +98,8 @@ fn reservoir_merge(r: ptr<function, Reservoir>, other: Reservoir, target_here: f
     return reservoir_stream(r, other.entry, other.u, weight, other.count, rand);
 }
 
-// W = weight_sum / (normaliser * target): normaliser M (1/M) or Z (1/Z); 0 with no sample, a
-// target that is not positive or a zero normaliser.
+// W = weight_sum / (normaliser * target): normaliser M (1/M), or 1 where the weights already
+// sum to one; 0 with no sample, a target that is not positive or a zero normaliser.
 fn reservoir_finish(r: ptr<function, Reservoir>, target_value: f32, normaliser: u32) {
     var w = 0.0;
     if (*r).entry != RESERVOIR_NO_SAMPLE && target_value > 0.0 && normaliser > 0u {
@@ -186,15 +187,19 @@ fn reservoir_no_surface() -> vec4<u32> {
 const RESERVOIR_NORMAL_COS: f32 = 0.9;
 const RESERVOIR_DEPTH: f32 = 0.1;
 
-// Whether a packed surface is close enough to (depth, normal) to reuse its reservoir.
-fn reservoir_surface_similar(packed: vec4<u32>, depth: f32, normal: vec3<f32>) -> bool {
-    let other_depth = bitcast<f32>(packed.x);
+// Whether a surface of view depth other_depth and normal other_normal is close enough to
+// (depth, normal) to reuse its reservoir.
+fn reservoir_surfaces_similar(other_depth: f32, other_normal: vec3<f32>, depth: f32, normal: vec3<f32>) -> bool {
     if !(other_depth > 0.0) || !(depth > 0.0) {
         return false;
     }
-    let other_normal = octahedral_decode(packed.y);
     return abs(other_depth - depth) <= RESERVOIR_DEPTH * depth
         && dot(other_normal, normal) >= RESERVOIR_NORMAL_COS;
+}
+
+// reservoir_surfaces_similar for a packed surface (reservoir_surface_pack).
+fn reservoir_surface_similar(packed: vec4<u32>, depth: f32, normal: vec3<f32>) -> bool {
+    return reservoir_surfaces_similar(bitcast<f32>(packed.x), octahedral_decode(packed.y), depth, normal);
 }
 
 // The view depth of a world point for `camera`.

@@ -4,9 +4,8 @@
 //! 1. `gbuffer` (raster, or traced through the BVHs: [`PrimaryVisibility`]): position,
 //!    normals, material, emission, instance id, motion vectors, depth.
 //! 2. `restir_temporal`, `restir_spatial` (compute; realtime and direct modes with resampled
-//!    direct light,
-//!    [`crate::settings::RestirSettings`]): each pixel's reservoir of area-light candidates,
-//!    merged with last frame's and with its neighbours'.
+//!    direct light, [`crate::settings::RestirSettings`]): each pixel's reservoir of light
+//!    candidates, merged with last frame's and with its neighbours'.
 //! 3. `direct` (compute): the direct light the surface seen reflects (light samples with shadow
 //!    rays, MIS with BRDF samples); the environment where no surface is seen.
 //! 4. `indirect` (compute): `spp` paths from the surface seen, the light they gather after the
@@ -336,6 +335,26 @@ impl Frame {
         &self.denoiser
     }
 
+    /// Gives the reservoirs the frame's size the first time a frame resamples
+    /// ([`FrameTargets::size_reservoirs`]) and binds them again.
+    fn size_reservoirs(&mut self, device: &wgpu::Device) {
+        if !self.targets.size_reservoirs(device) {
+            return;
+        }
+        let (passes, t, camera) = (&self.scene_passes, &self.targets, &self.camera);
+        self.restir_groups = [
+            passes
+                .restir_temporal
+                .bind_group(device, t, camera, &self.restir_params),
+            passes
+                .restir_spatial
+                .bind_group(device, t, camera, &self.restir_params),
+        ];
+        self.direct_group = passes
+            .direct
+            .bind_group(device, t, camera, &self.direct_params);
+    }
+
     /// Writes the parameters of the passes for this frame.
     fn write_params(&mut self, queue: &wgpu::Queue, camera: &GpuCamera, input: &FrameInput) {
         let s = &input.settings;
@@ -501,6 +520,9 @@ impl Frame {
     ) -> Vec<PassTimes> {
         let (device, queue) = (&context.device, &context.queue);
         let start = std::time::Instant::now();
+        if input.settings.resamples_direct_light() {
+            self.size_reservoirs(device);
+        }
         self.write_params(queue, camera, input);
         let primary = self.choose_primary(context, scene, camera.cull_view(), input);
         if primary != self.primary {

@@ -115,7 +115,8 @@ pub struct FrameTargets {
     /// The surface each pixel of `resolve` saw (instance + 1, 0 for none), two of them like
     /// `resolve`.
     pub resolve_surface: [Target; 2],
-    /// Resampled direct light: the reservoirs of this frame's candidates merged with last
+    /// Resampled direct light (1 x 1 until a frame resamples: [`Self::size_reservoirs`]): the
+    /// reservoirs of this frame's candidates merged with last
     /// frame's (`restir_temporal`), read by the spatial pass.
     pub reservoirs_temporal: Target,
     /// Resampled direct light: the final reservoirs (`restir_spatial`), shaded by the direct
@@ -140,6 +141,8 @@ impl FrameTargets {
                 U::empty()
             };
         let storage = U::STORAGE_BINDING | U::TEXTURE_BINDING | U::COPY_SRC;
+        let [reservoirs_temporal, reservoirs, reservoir_surfaces] =
+            reservoir_targets(device, (1, 1));
         Self {
             width,
             height,
@@ -179,30 +182,38 @@ impl FrameTargets {
                 .map(|label| Target::new(device, label, HDR_FORMAT, size, storage)),
             resolve_surface: ["resolve surfaces a", "resolve surfaces b"]
                 .map(|label| Target::new(device, label, RESOLVE_SURFACE_FORMAT, size, storage)),
-            reservoirs_temporal: Target::new(
-                device,
-                "reservoirs temporal",
-                RESERVOIR_FORMAT,
-                size,
-                storage,
-            ),
-            // Writable from the CPU: tests poison it to check that nothing spreads.
-            reservoirs: Target::new(
-                device,
-                "reservoirs",
-                RESERVOIR_FORMAT,
-                size,
-                storage | U::COPY_DST,
-            ),
-            reservoir_surfaces: Target::new(
-                device,
-                "reservoir surfaces",
-                RESERVOIR_FORMAT,
-                size,
-                storage,
-            ),
+            reservoirs_temporal,
+            reservoirs,
+            reservoir_surfaces,
         }
     }
+
+    /// Gives the resampled direct light's reservoirs the frame's size, the first time a frame
+    /// resamples: they start at 1 x 1, so a frame that never does holds 48 bytes a pixel less.
+    /// Returns whether they were made again (and so must be bound again).
+    pub fn size_reservoirs(&mut self, device: &wgpu::Device) -> bool {
+        let size = (self.width, self.height);
+        let texture = &self.reservoirs.texture;
+        if (texture.width(), texture.height()) == size {
+            return false;
+        }
+        [
+            self.reservoirs_temporal,
+            self.reservoirs,
+            self.reservoir_surfaces,
+        ] = reservoir_targets(device, size);
+        true
+    }
+}
+
+/// The resampled direct light's targets at `size`: the first pass's reservoirs, the final ones
+/// and their surfaces (writable from the CPU too: tests poison them to check that nothing
+/// spreads).
+fn reservoir_targets(device: &wgpu::Device, size: (u32, u32)) -> [Target; 3] {
+    use wgpu::TextureUsages as U;
+    let usage = U::STORAGE_BINDING | U::TEXTURE_BINDING | U::COPY_SRC | U::COPY_DST;
+    ["reservoirs temporal", "reservoirs", "reservoir surfaces"]
+        .map(|label| Target::new(device, label, RESERVOIR_FORMAT, size, usage))
 }
 
 /// A storage buffer of `bytes` per pixel.

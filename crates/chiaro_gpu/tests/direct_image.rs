@@ -273,44 +273,25 @@ fn alpha_masked_block_is_a_hole_as_in_the_reference() {
     }
 }
 
-#[test]
-fn resampled_cornell_direct_light_converges_to_the_reference() {
-    let result = compare_resampled(
-        "builtin:cornell",
-        None,
-        no_edit,
-        32,
-        1024,
-        &[4, 64, 256],
-        true,
-    );
-    if let Some(result) = result {
+/// `scene`'s resampled direct light (32x32, 4, 64 and 256 frames) against a reference of `spp`.
+fn check_resampled(scene: &str, spp: u32) {
+    if let Some(result) = compare_resampled(scene, None, no_edit, 32, spp, &[4, 64, 256], true) {
         check(result);
     }
 }
 
 #[test]
+fn resampled_cornell_direct_light_converges_to_the_reference() {
+    check_resampled("builtin:cornell", 1024);
+}
+
+#[test]
 fn resampled_hard_cases_converge_to_the_reference() {
-    let result = compare_resampled(
-        "builtin:hard-cases",
-        None,
-        no_edit,
-        32,
-        512,
-        &[4, 64, 256],
-        true,
-    );
-    if let Some(result) = result {
-        check(result);
-    }
+    check_resampled("builtin:hard-cases", 512);
 }
 
 #[test]
 fn resampled_many_lights_converge_to_the_reference() {
     // The reservoirs hold the punctual lights too: there are more than the pass evaluates.
-    let scene = "builtin:many-lights";
-    let result = compare_resampled(scene, None, no_edit, 32, 512, &[4, 64, 256], true);
-    if let Some(result) = result {
-        check(result);
-    }
+    check_resampled("builtin:many-lights", 512);
 }

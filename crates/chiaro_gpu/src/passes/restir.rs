@@ -1,6 +1,6 @@
 //! `restir_temporal` and `restir_spatial`: resampled direct light (ReSTIR DI; see
 //! [`crate::settings::RestirSettings`] and `shaders/restir_temporal.wgsl`,
-//! `shaders/restir_spatial.wgsl`). The first draws each pixel's area-light candidates into a
+//! `shaders/restir_spatial.wgsl`). The first draws each pixel's light candidates into a
 //! reservoir and merges last frame's along the motion vectors; the second merges neighbours'.
 //! The direct pass then shades each pixel's final reservoir.
 
@@ -22,7 +22,7 @@ pub struct RestirParams {
     pub seed_hi: u32,
     /// How a light is picked: `LIGHT_SAMPLING_POWER` or `LIGHT_SAMPLING_TREE`.
     pub light_sampling: u32,
-    /// Area-light candidates per pixel.
+    /// Light candidates per pixel.
     pub candidates: u32,
     /// 1: merge last frame's reservoirs.
     pub temporal: u32,
