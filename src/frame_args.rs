@@ -79,6 +79,10 @@ pub struct FrameArgs {
     /// pixel, merged with last frame's and, in motion, with neighbours'.
     #[arg(long)]
     restir_di: bool,
+    /// Resamples the indirect light of the realtime mode (ReSTIR GI): each pixel's path is
+    /// reused by its neighbours in motion (needs --spp 1).
+    #[arg(long)]
+    restir_gi: bool,
 }
 
 /// `--primary`'s values.
@@ -117,6 +121,7 @@ impl FrameArgs {
         };
         settings.denoise.enabled = !self.no_denoise;
         settings.restir.direct = self.restir_di;
+        settings.restir.indirect = self.restir_gi;
         settings
     }
 }

@@ -23,7 +23,7 @@
 #import lib/color.wgsl
 #import lib/next_event.wgsl
 
-// chiaro_gpu::passes::restir::RestirParams: the two resampling passes' parameters.
+// chiaro_gpu::passes::restir::RestirParams: the resampling passes' parameters.
 struct RestirParams {
     frame: u32,
     seed_lo: u32,
@@ -42,8 +42,11 @@ struct RestirParams {
     spatial_radius: f32,
     // 1: weigh neighbours by the generalised balance heuristic (unbiased); 0: normalise by M.
     unbiased: u32,
-    pad0: u32,
-    pad1: u32,
+    // Neighbours whose indirect samples restir_gi_spatial.wgsl resamples (0 where the frame
+    // converges).
+    indirect_spatial_samples: u32,
+    // Most luminance of a pixel's resampled indirect light; 0: off.
+    firefly_clamp: f32,
 }
 
 const RESERVOIR_NO_SAMPLE: u32 = 0xffffffffu;

@@ -9,7 +9,9 @@
 //! 3. `direct` (compute): the direct light the surface seen reflects (light samples with shadow
 //!    rays, MIS with BRDF samples); the environment where no surface is seen.
 //! 4. `indirect` (compute): `spp` paths from the surface seen, the light they gather after the
-//!    first bounce (naive mode: all reflected light, by uniform hemisphere sampling).
+//!    first bounce (naive mode: all reflected light, by uniform hemisphere sampling); with
+//!    resampled indirect light, `restir_gi_initial` and `restir_gi_spatial` instead: one path
+//!    a pixel kept as a sample, resampled with its neighbours'.
 //! 5. `temporal`, `variance`, `atrous` (compute; realtime mode with the denoiser on): the
 //!    lighting demodulated by albedo, reprojected and accumulated, its variance estimated, and
 //!    filtered edge-aware.
@@ -27,11 +29,9 @@ use crate::passes::composite::{
     COMPOSITE_DIRECT, COMPOSITE_FILTERED, COMPOSITE_PATHS, COMPOSITE_RESET, COMPOSITE_RESOLVE,
     CompositeParams, CompositePass,
 };
-use crate::passes::direct::{DirectParams, DirectPass};
-use crate::passes::gbuffer::GbufferPass;
-use crate::passes::gbuffer_traced::TracedGbufferPass;
-use crate::passes::indirect::{IndirectParams, IndirectPass};
-use crate::passes::restir::{RestirParams, RestirSpatialPass, RestirTemporalPass};
+use crate::passes::direct::DirectParams;
+use crate::passes::indirect::IndirectParams;
+use crate::passes::restir::RestirParams;
 use crate::passes::tonemap::{TonemapParams, TonemapPass};
 use crate::settings::{
     FrameSettings, LightSampling, PrimaryVisibility, REFERENCE_BOUNCES, RenderMode,
@@ -43,8 +43,10 @@ use crate::targets::FrameTargets;
 use crate::timing::{PassClock, PassTimer, PassTimes};
 
 mod primary;
+mod scene_passes;
 mod schedule;
 
+pub use scene_passes::ScenePasses;
 use schedule::{MAX_PASSES, denoises};
 pub use schedule::{Pass, passes};
 
@@ -86,103 +88,6 @@ fn params_buffer(device: &wgpu::Device, label: &str, size: usize) -> wgpu::Buffe
     })
 }
 
-/// The passes that read the scene (G-buffer, direct, indirect), each with its pipelines for
-/// every feature set it has rendered with. They do not depend on the output size, so a resized
-/// frame keeps them and recompiles nothing.
-pub struct ScenePasses {
-    gbuffer: GbufferPass,
-    /// The traced G-buffer, where the device can run it.
-    gbuffer_traced: Option<TracedGbufferPass>,
-    restir_temporal: RestirTemporalPass,
-    restir_spatial: RestirSpatialPass,
-    direct: DirectPass,
-    indirect: IndirectPass,
-}
-
-impl ScenePasses {
-    /// The passes for `scene`'s bind-group layout (their pipelines are built on first use),
-    /// the traced G-buffer among them where the device can run it (`traced_gbuffer`:
-    /// [`GpuContext::traced_gbuffer`]).
-    pub fn new(
-        device: &wgpu::Device,
-        scene: &GpuScene,
-        traced_gbuffer: bool,
-    ) -> Result<Self, ShaderError> {
-        Ok(Self {
-            gbuffer: GbufferPass::new(device, scene)?,
-            gbuffer_traced: traced_gbuffer
-                .then(|| TracedGbufferPass::new(device, scene))
-                .transpose()?,
-            restir_temporal: RestirTemporalPass::new(device, scene)?,
-            restir_spatial: RestirSpatialPass::new(device, scene)?,
-            direct: DirectPass::new(device, scene)?,
-            indirect: IndirectPass::new(device, scene)?,
-        })
-    }
-
-    /// Selects each pass's pipeline for the frame's features (see
-    /// [`crate::specialization::PipelineCache::select`]), the G-buffer's traced one when
-    /// `traced`; returns the feature set every pass the frame runs now has, or `None` while
-    /// they differ.
-    fn specialize(
-        &mut self,
-        device: &wgpu::Device,
-        input: &FrameInput,
-        traced: bool,
-    ) -> Option<PipelineFeatures> {
-        let (features, background) = (input.features, input.background_compile);
-        let first = match &mut self.gbuffer_traced {
-            Some(pass) if traced => {
-                pass.pipelines.specialize(device, features, background);
-                pass.pipelines.features()
-            }
-            _ => {
-                let pipelines = &mut self.gbuffer.pipelines;
-                pipelines.specialize(device, features, background);
-                pipelines.features()
-            }
-        };
-        self.direct
-            .pipelines
-            .specialize(device, features, background);
-        let indirect = (input.settings.mode != RenderMode::Direct).then(|| {
-            self.indirect
-                .pipelines
-                .specialize(device, features, background);
-            self.indirect.pipelines.features()
-        });
-        let restir = input.settings.resamples_direct_light().then(|| {
-            for pipelines in [
-                &mut self.restir_temporal.pipelines,
-                &mut self.restir_spatial.pipelines,
-            ] {
-                pipelines.specialize(device, features, background);
-            }
-            [
-                self.restir_temporal.pipelines.features(),
-                self.restir_spatial.pipelines.features(),
-            ]
-        });
-        let same = self.direct.pipelines.features() == first
-            && indirect.is_none_or(|f| f == first)
-            && restir.is_none_or(|r| r.iter().all(|&f| f == first));
-        first.filter(|_| same)
-    }
-
-    /// Pipelines built so far by the scene passes.
-    pub fn pipeline_builds(&self) -> u32 {
-        self.gbuffer.pipelines.builds()
-            + self
-                .gbuffer_traced
-                .as_ref()
-                .map_or(0, |pass| pass.pipelines.builds())
-            + self.restir_temporal.pipelines.builds()
-            + self.restir_spatial.pipelines.builds()
-            + self.direct.pipelines.builds()
-            + self.indirect.pipelines.builds()
-    }
-}
-
 /// The frame's passes and their resources at one output size.
 pub struct Frame {
     /// The images the passes write.
@@ -212,6 +117,8 @@ pub struct Frame {
     restir_groups: [wgpu::BindGroup; 2],
     direct_group: wgpu::BindGroup,
     indirect_group: wgpu::BindGroup,
+    /// The resampled indirect light's bind groups (initial, spatial).
+    restir_gi_groups: [wgpu::BindGroup; 2],
     composite_groups: [wgpu::BindGroup; 2],
     resolve_parity: usize,
     tonemap_group: wgpu::BindGroup,
@@ -239,6 +146,8 @@ impl Frame {
             restir_spatial,
             direct,
             indirect,
+            restir_gi_initial,
+            restir_gi_spatial,
         } = &scene_passes;
         let composite = CompositePass::new(device)?;
         let tonemap = TonemapPass::new(device)?;
@@ -264,6 +173,10 @@ impl Frame {
             ],
             direct_group: direct.bind_group(device, &targets, &camera, &direct_params),
             indirect_group: indirect.bind_group(device, &targets, &camera, &indirect_params),
+            restir_gi_groups: [
+                restir_gi_initial.bind_group(device, &targets, &camera, &indirect_params),
+                restir_gi_spatial.bind_group(device, &targets, &camera, &restir_params),
+            ],
             composite_groups: [0, 1].map(|parity| {
                 composite.bind_group(
                     device,
@@ -353,6 +266,14 @@ impl Frame {
         self.direct_group = passes
             .direct
             .bind_group(device, t, camera, &self.direct_params);
+        self.restir_gi_groups = [
+            passes
+                .restir_gi_initial
+                .bind_group(device, t, camera, &self.indirect_params),
+            passes
+                .restir_gi_spatial
+                .bind_group(device, t, camera, &self.restir_params),
+        ];
     }
 
     /// Writes the parameters of the passes for this frame.
@@ -375,7 +296,7 @@ impl Frame {
             pad: 0,
         };
         queue.write_buffer(&self.direct_params, 0, bytemuck::bytes_of(&direct));
-        if s.resamples_direct_light() {
+        if s.resamples_direct_light() || s.resamples_indirect_light() {
             // Last frame's reservoirs are this view's unless the history restarts or last
             // frame did not resample.
             let history = !input.reset_history && self.resampled;
@@ -384,7 +305,7 @@ impl Frame {
             let restir = RestirParams::new(
                 s,
                 (input.frame, input.seed),
-                light_sampling(s),
+                (light_sampling(s), firefly_clamp(s)),
                 history,
                 converging,
             );
@@ -484,6 +405,20 @@ impl Frame {
                 t,
                 timer.compute(slot, index),
             ),
+            Pass::RestirGiInitial => self.scene_passes.restir_gi_initial.record(
+                encoder,
+                scene,
+                &self.restir_gi_groups[0],
+                t,
+                timer.compute(slot, index),
+            ),
+            Pass::RestirGiSpatial => self.scene_passes.restir_gi_spatial.record(
+                encoder,
+                scene,
+                &self.restir_gi_groups[1],
+                t,
+                timer.compute(slot, index),
+            ),
             Pass::Temporal => self
                 .denoiser
                 .record_temporal(encoder, t, timer.compute(slot, index)),
@@ -520,7 +455,7 @@ impl Frame {
     ) -> Vec<PassTimes> {
         let (device, queue) = (&context.device, &context.queue);
         let start = std::time::Instant::now();
-        if input.settings.resamples_direct_light() {
+        if input.settings.resamples_direct_light() || input.settings.resamples_indirect_light() {
             self.size_reservoirs(device);
         }
         self.write_params(queue, camera, input);

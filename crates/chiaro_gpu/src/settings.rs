@@ -197,6 +197,16 @@ pub struct RestirSettings {
     pub spatial_radius: f32,
     /// How spatial reuse is normalised.
     pub bias: RestirBias,
+    /// Whether the realtime mode resamples its indirect light (ReSTIR GI: Ouyang et al.,
+    /// "ReSTIR GI: Path Resampling for Real-Time Path Tracing", HPG 2021): each pixel's path
+    /// is kept as a sample of its first bounce's point and the light that point reflects,
+    /// and each pixel shades the survivor of its own and `indirect_spatial_samples`
+    /// neighbours' (`shaders/restir_gi_spatial.wgsl`). Needs `spp` = 1. A still view that
+    /// converges reuses nothing, so its mean is the path tracer's.
+    pub indirect: bool,
+    /// Neighbours whose indirect samples each pixel resamples (0: none), at most
+    /// [`MAX_RESTIR_NEIGHBOURS`], drawn in the disc of `spatial_radius`.
+    pub indirect_spatial_samples: u32,
 }
 
 impl Default for RestirSettings {
@@ -209,6 +219,8 @@ impl Default for RestirSettings {
             spatial_samples: 2,
             spatial_radius: 16.0,
             bias: RestirBias::Biased,
+            indirect: false,
+            indirect_spatial_samples: 4,
         }
     }
 }
@@ -359,6 +371,20 @@ impl FrameSettings {
                 "0..=8",
             );
         }
+        if r.indirect_spatial_samples > MAX_RESTIR_NEIGHBOURS {
+            return fail(
+                "restir.indirect_spatial_samples",
+                r.indirect_spatial_samples.to_string(),
+                "0..=8",
+            );
+        }
+        if r.indirect && self.spp != 1 {
+            return fail(
+                "spp",
+                self.spp.to_string(),
+                "1 with restir.indirect (one resampled path a pixel)",
+            );
+        }
         if !(1.0..=64.0).contains(&r.spatial_radius) {
             return fail(
                 "restir.spatial_radius",
@@ -373,6 +399,11 @@ impl FrameSettings {
     /// modes do when asked (the direct mode, which accumulates, always unbiased).
     pub fn resamples_direct_light(&self) -> bool {
         matches!(self.mode, RenderMode::Realtime | RenderMode::Direct) && self.restir.direct
+    }
+
+    /// Whether a frame of these settings resamples its indirect light (realtime mode only).
+    pub fn resamples_indirect_light(&self) -> bool {
+        self.mode == RenderMode::Realtime && self.restir.indirect
     }
 }
 
@@ -410,6 +441,17 @@ mod tests {
         bad.restir.spatial_samples = MAX_RESTIR_NEIGHBOURS + 1;
         assert_eq!(bad.validate().unwrap_err().name, "restir.spatial_samples");
         let mut bad = FrameSettings::default();
+        bad.restir.spatial_samples = 2;
+        bad.restir.indirect_spatial_samples = MAX_RESTIR_NEIGHBOURS + 1;
+        assert_eq!(
+            bad.validate().unwrap_err().name,
+            "restir.indirect_spatial_samples"
+        );
+        bad.restir.indirect_spatial_samples = 4;
+        bad.restir.indirect = true;
+        bad.spp = 2;
+        assert_eq!(bad.validate().unwrap_err().name, "spp");
+        bad.spp = 1;
         bad.restir.spatial_radius = f32::NAN;
         assert_eq!(bad.validate().unwrap_err().name, "restir.spatial_radius");
         // The realtime mode clamps fireflies unless told not to.

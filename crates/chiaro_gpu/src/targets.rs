@@ -125,6 +125,11 @@ pub struct FrameTargets {
     /// The surface (view depth, normal) of each of `reservoirs`, for the next frame's
     /// similarity test.
     pub reservoir_surfaces: Target,
+    /// Resampled indirect light (1 x 1 until a frame resamples): each pixel's path as a
+    /// sample, its first bounce's point and contribution weight (`restir_gi_initial`).
+    pub gi_points: Target,
+    /// Resampled indirect light: the light each of `gi_points` reflects and its normal.
+    pub gi_radiance: Target,
 }
 
 impl FrameTargets {
@@ -141,8 +146,13 @@ impl FrameTargets {
                 U::empty()
             };
         let storage = U::STORAGE_BINDING | U::TEXTURE_BINDING | U::COPY_SRC;
-        let [reservoirs_temporal, reservoirs, reservoir_surfaces] =
-            reservoir_targets(device, (1, 1));
+        let [
+            reservoirs_temporal,
+            reservoirs,
+            reservoir_surfaces,
+            gi_points,
+            gi_radiance,
+        ] = reservoir_targets(device, (1, 1));
         Self {
             width,
             height,
@@ -185,11 +195,14 @@ impl FrameTargets {
             reservoirs_temporal,
             reservoirs,
             reservoir_surfaces,
+            gi_points,
+            gi_radiance,
         }
     }
 
-    /// Gives the resampled direct light's reservoirs the frame's size, the first time a frame
-    /// resamples: they start at 1 x 1, so a frame that never does holds 48 bytes a pixel less.
+    /// Gives the reservoirs and samples of resampled direct and indirect light the frame's
+    /// size, the first time a frame resamples either: they start at 1 x 1, so a frame that
+    /// never does holds 80 bytes a pixel less.
     /// Returns whether they were made again (and so must be bound again).
     pub fn size_reservoirs(&mut self, device: &wgpu::Device) -> bool {
         let size = (self.width, self.height);
@@ -201,19 +214,27 @@ impl FrameTargets {
             self.reservoirs_temporal,
             self.reservoirs,
             self.reservoir_surfaces,
+            self.gi_points,
+            self.gi_radiance,
         ] = reservoir_targets(device, size);
         true
     }
 }
 
-/// The resampled direct light's targets at `size`: the first pass's reservoirs, the final ones
-/// and their surfaces (writable from the CPU too: tests poison them to check that nothing
-/// spreads).
-fn reservoir_targets(device: &wgpu::Device, size: (u32, u32)) -> [Target; 3] {
+/// The resampled light's targets at `size`: direct light's first-pass reservoirs, final ones
+/// and their surfaces, indirect light's sample points and radiance (writable from the CPU too:
+/// tests poison them to check that nothing spreads).
+fn reservoir_targets(device: &wgpu::Device, size: (u32, u32)) -> [Target; 5] {
     use wgpu::TextureUsages as U;
     let usage = U::STORAGE_BINDING | U::TEXTURE_BINDING | U::COPY_SRC | U::COPY_DST;
-    ["reservoirs temporal", "reservoirs", "reservoir surfaces"]
-        .map(|label| Target::new(device, label, RESERVOIR_FORMAT, size, usage))
+    [
+        "reservoirs temporal",
+        "reservoirs",
+        "reservoir surfaces",
+        "gi sample points",
+        "gi sample radiance",
+    ]
+    .map(|label| Target::new(device, label, RESERVOIR_FORMAT, size, usage))
 }
 
 /// A storage buffer of `bytes` per pixel.

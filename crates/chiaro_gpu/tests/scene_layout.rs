@@ -220,23 +220,25 @@ fn check_fields(structs: &[WgslStruct], wgsl: &str, size: usize, fields: &[(&str
 
 #[test]
 fn pass_params_match_their_wgsl_structs() {
-    check_fields(
-        &wgsl_structs("indirect.wgsl"),
-        "IndirectParams",
-        size_of::<IndirectParams>(),
-        &[
-            ("frame", offset_of!(IndirectParams, frame)),
-            ("seed_lo", offset_of!(IndirectParams, seed_lo)),
-            ("seed_hi", offset_of!(IndirectParams, seed_hi)),
-            ("spp", offset_of!(IndirectParams, spp)),
-            ("bounces", offset_of!(IndirectParams, bounces)),
-            ("naive", offset_of!(IndirectParams, naive)),
-            ("poison", offset_of!(IndirectParams, poison)),
-            ("light_sampling", offset_of!(IndirectParams, light_sampling)),
-            ("firefly_clamp", offset_of!(IndirectParams, firefly_clamp)),
-            ("pad0", offset_of!(IndirectParams, pad)),
-        ],
-    );
+    for shader in ["indirect.wgsl", "restir_gi_initial.wgsl"] {
+        check_fields(
+            &wgsl_structs(shader),
+            "IndirectParams",
+            size_of::<IndirectParams>(),
+            &[
+                ("frame", offset_of!(IndirectParams, frame)),
+                ("seed_lo", offset_of!(IndirectParams, seed_lo)),
+                ("seed_hi", offset_of!(IndirectParams, seed_hi)),
+                ("spp", offset_of!(IndirectParams, spp)),
+                ("bounces", offset_of!(IndirectParams, bounces)),
+                ("naive", offset_of!(IndirectParams, naive)),
+                ("poison", offset_of!(IndirectParams, poison)),
+                ("light_sampling", offset_of!(IndirectParams, light_sampling)),
+                ("firefly_clamp", offset_of!(IndirectParams, firefly_clamp)),
+                ("pad0", offset_of!(IndirectParams, pad)),
+            ],
+        );
+    }
     check_fields(
         &wgsl_structs("direct.wgsl"),
         "DirectParams",
@@ -252,7 +254,11 @@ fn pass_params_match_their_wgsl_structs() {
             ("pad1", offset_of!(DirectParams, pad)),
         ],
     );
-    for shader in ["restir_temporal.wgsl", "restir_spatial.wgsl"] {
+    for shader in [
+        "restir_temporal.wgsl",
+        "restir_spatial.wgsl",
+        "restir_gi_spatial.wgsl",
+    ] {
         check_fields(
             &wgsl_structs(shader),
             "RestirParams",
@@ -268,7 +274,11 @@ fn pass_params_match_their_wgsl_structs() {
                 ("spatial_samples", offset_of!(RestirParams, spatial_samples)),
                 ("spatial_radius", offset_of!(RestirParams, spatial_radius)),
                 ("unbiased", offset_of!(RestirParams, unbiased)),
-                ("pad0", offset_of!(RestirParams, pad)),
+                (
+                    "indirect_spatial_samples",
+                    offset_of!(RestirParams, indirect_spatial_samples),
+                ),
+                ("firefly_clamp", offset_of!(RestirParams, firefly_clamp)),
             ],
         );
     }

@@ -175,6 +175,10 @@ pub struct BenchConfig {
 
 /// The realtime configuration with resampled direct light.
 pub const RESTIR_DI_CONFIG: &str = "realtime-restir-di";
+/// The realtime configuration with resampled indirect light.
+pub const RESTIR_GI_CONFIG: &str = "realtime-restir-gi";
+/// The realtime configuration with resampled direct and indirect light.
+pub const RESTIR_CONFIG: &str = "realtime-restir";
 
 /// The realtime configuration compiled with every shader feature, whatever the scene uses.
 pub const ALL_FEATURES_CONFIG: &str = "realtime-all-features";
@@ -216,8 +220,8 @@ pub fn default_configs() -> Vec<BenchConfig> {
 /// feature compiled in rather than only the scene's (what specialisation saves), direct
 /// and realtime with lights picked by power instead of through the light trees (the
 /// many-lights baseline), realtime whose still view keeps the moving average's memory
-/// (what [`chiaro_gpu::still_view`] buys), and realtime with resampled direct light
-/// ([`chiaro_gpu::RestirSettings`]).
+/// (what [`chiaro_gpu::still_view`] buys), and realtime with resampled direct light, indirect
+/// light or both ([`chiaro_gpu::RestirSettings`]).
 pub fn extra_configs() -> Vec<BenchConfig> {
     let realtime = FrameSettings::default();
     let power = LightSampling::Power;
@@ -225,6 +229,10 @@ pub fn extra_configs() -> Vec<BenchConfig> {
     moving_average.denoise.converge_when_still = false;
     let mut restir_di = realtime;
     restir_di.restir.direct = true;
+    let mut restir_gi = realtime;
+    restir_gi.restir.indirect = true;
+    let mut restir = restir_di;
+    restir.restir.indirect = true;
     configs([
         (
             "direct-power",
@@ -250,22 +258,28 @@ pub fn extra_configs() -> Vec<BenchConfig> {
         ),
         ("realtime-moving-average", moving_average),
         (RESTIR_DI_CONFIG, restir_di),
+        (RESTIR_GI_CONFIG, restir_gi),
+        (RESTIR_CONFIG, restir),
     ])
 }
 
-/// The runs along the camera path: the realtime frame as it ships (`realtime-path`), and with
-/// resampled direct light (`realtime-restir-di-path`) when `configs` measure that.
+/// The runs along the camera path: the realtime frame as it ships (`realtime-path`), and each
+/// resampling configuration `configs` measure (`realtime-restir-di-path`, ...).
 fn path_configs(configs: &[BenchConfig]) -> Vec<BenchConfig> {
     let mut paths = vec![BenchConfig {
         name: PATH_CONFIG.into(),
         settings: RenderSettings::default(),
     }];
-    if let Some(restir) = configs.iter().find(|c| c.name == RESTIR_DI_CONFIG) {
-        paths.push(BenchConfig {
-            name: format!("{RESTIR_DI_CONFIG}-path"),
-            settings: restir.settings,
-        });
-    }
+    let resampling = [RESTIR_DI_CONFIG, RESTIR_GI_CONFIG, RESTIR_CONFIG];
+    paths.extend(
+        configs
+            .iter()
+            .filter(|c| resampling.contains(&c.name.as_str()))
+            .map(|c| BenchConfig {
+                name: format!("{}-path", c.name),
+                settings: c.settings,
+            }),
+    );
     paths
 }
 

@@ -15,6 +15,10 @@ pub enum Pass {
     Direct,
     /// Indirect paths.
     Indirect,
+    /// Resampled indirect light: one path a pixel kept as a sample.
+    RestirGiInitial,
+    /// Resampled indirect light: spatial reuse, written as the indirect light.
+    RestirGiSpatial,
     /// Denoiser: temporal accumulation.
     Temporal,
     /// Denoiser: variance estimation.
@@ -36,6 +40,8 @@ impl Pass {
             Pass::RestirSpatial => "restir_spatial",
             Pass::Direct => "direct",
             Pass::Indirect => "indirect",
+            Pass::RestirGiInitial => "restir_gi_initial",
+            Pass::RestirGiSpatial => "restir_gi_spatial",
             Pass::Temporal => "temporal",
             Pass::Variance => "variance",
             Pass::Atrous => "atrous",
@@ -46,7 +52,7 @@ impl Pass {
 }
 
 /// Most passes a frame runs.
-pub(crate) const MAX_PASSES: u32 = 10;
+pub(crate) const MAX_PASSES: u32 = 11;
 
 /// The passes a frame of `settings` runs, in order.
 pub fn passes(settings: &FrameSettings) -> Vec<Pass> {
@@ -55,7 +61,9 @@ pub fn passes(settings: &FrameSettings) -> Vec<Pass> {
         passes.extend([Pass::RestirTemporal, Pass::RestirSpatial]);
     }
     passes.push(Pass::Direct);
-    if settings.mode != RenderMode::Direct {
+    if settings.resamples_indirect_light() {
+        passes.extend([Pass::RestirGiInitial, Pass::RestirGiSpatial]);
+    } else if settings.mode != RenderMode::Direct {
         passes.push(Pass::Indirect);
     }
     if denoises(settings) {

@@ -8,6 +8,7 @@ pub mod gbuffer;
 pub mod gbuffer_traced;
 pub mod indirect;
 pub mod restir;
+pub mod restir_gi;
 pub mod shading_pass;
 pub mod temporal;
 pub mod tonemap;

@@ -2,7 +2,8 @@
 //! [`crate::settings::RestirSettings`] and `shaders/restir_temporal.wgsl`,
 //! `shaders/restir_spatial.wgsl`). The first draws each pixel's light candidates into a
 //! reservoir and merges last frame's along the motion vectors; the second merges neighbours'.
-//! The direct pass then shades each pixel's final reservoir.
+//! The direct pass then shades each pixel's final reservoir. The resampled indirect light's
+//! spatial pass ([`super::restir_gi`]) reads the same parameters.
 
 use bytemuck::{Pod, Zeroable};
 
@@ -34,8 +35,11 @@ pub struct RestirParams {
     pub spatial_radius: f32,
     /// 1: spatial reuse weighted by the generalised balance heuristic (unbiased); 0: by M.
     pub unbiased: u32,
-    /// Padding to 16 bytes.
-    pub pad: [u32; 2],
+    /// Neighbours whose indirect samples `restir_gi_spatial` resamples (0 where the frame
+    /// converges: see [`RestirParams::new`]).
+    pub indirect_spatial_samples: u32,
+    /// Most luminance of a pixel's resampled indirect light; 0: no clamp.
+    pub firefly_clamp: f32,
 }
 
 impl RestirParams {
@@ -47,11 +51,14 @@ impl RestirParams {
     /// last frame's reservoir, normalised by M, belongs to another jittered point whose
     /// target's support differs a little (measured on the hard cases in the direct mode, 256
     /// frames: the lit interior 0.27% dark, 4.4 standard errors), and the running mean itself
-    /// is the temporal reuse a still view needs.
+    /// is the temporal reuse a still view needs. Where it converges, resampled indirect light
+    /// draws no neighbours: a neighbour's sample assumes a diffuse point, a bias no weighting
+    /// removes, and each pixel's own path is the path tracer's estimate. `firefly_clamp` is the
+    /// frame's clamp on a pixel's indirect light (0: none).
     pub fn new(
         settings: &FrameSettings,
         (frame, seed): (u32, u64),
-        light_sampling: u32,
+        (light_sampling, firefly_clamp): (u32, f32),
         history: bool,
         converging: bool,
     ) -> Self {
@@ -67,7 +74,12 @@ impl RestirParams {
             spatial_samples: r.spatial_samples,
             spatial_radius: r.spatial_radius,
             unbiased: u32::from(r.bias == RestirBias::Unbiased || converging),
-            pad: [0; 2],
+            indirect_spatial_samples: if converging {
+                0
+            } else {
+                r.indirect_spatial_samples
+            },
+            firefly_clamp,
         }
     }
 }
@@ -116,3 +128,28 @@ impl ShadingKind for RestirSpatialKind {
 pub type RestirTemporalPass = GbufferShadingPass<RestirTemporalKind>;
 /// The second resampling pass.
 pub type RestirSpatialPass = GbufferShadingPass<RestirSpatialKind>;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_converging_frame_merges_no_history_and_reuses_no_indirect_sample() {
+        let mut settings = FrameSettings::default();
+        settings.restir.temporal = true;
+        settings.restir.indirect = true;
+        let moving = RestirParams::new(&settings, (3, 7), (0, 1.5), true, false);
+        assert_eq!(moving.temporal, 1);
+        assert_eq!(moving.unbiased, 0);
+        assert_eq!(
+            moving.indirect_spatial_samples,
+            settings.restir.indirect_spatial_samples
+        );
+        assert_eq!(moving.firefly_clamp, 1.5);
+        let still = RestirParams::new(&settings, (3, 7), (0, 1.5), true, true);
+        assert_eq!(
+            (still.temporal, still.unbiased, still.indirect_spatial_samples),
+            (0, 1, 0)
+        );
+    }
+}

@@ -1,0 +1,101 @@
+// Samples of indirect light for resampling (ReSTIR GI: Ouyang et al., "ReSTIR GI: Path
+// Resampling for Real-Time Path Tracing", HPG 2021): a pixel's path as the point y its first
+// bounce reached, the normal there, the light L that y reflects back along the path (its own
+// emission excluded: the direct pass counts it) and the contribution weight W of the sample.
+//
+// Measure: samples are weighed over surface area at y, the one domain every pixel shares, so a
+// sample reused by another pixel needs no Jacobian of its own: a pixel's BRDF sample of
+// solid-angle pdf p has area pdf p cos_y / d^2 (cos_y between y's normal and the segment, d its
+// length), and its W is the inverse, d^2 / (p cos_y). The target at a shading point x is the
+// luminance of gi_value: f(x) cos_x L cos_y / d^2, the integrand over area without visibility.
+//
+// Reuse assumes y reflects the same L toward every pixel that reuses it (a diffuse y), as
+// Ouyang et al. do: exact for the pixel's own sample, biased at glossy points for others.
+//
+// Packed in two rgba32uint texels: (y, W as f32 bits) and (L as f32 bits, y's octahedral
+// normal). W < 0 marks a sample that cannot be reused (a delta lobe at x: its pdf is not a
+// density); its second texel's L is then the path's whole contribution. W = 0 with L = 0 is
+// a path that found nothing to reuse (it ended or missed at the first bounce): it counts.
+
+#import lib/float.wgsl
+#import lib/frame.wgsl
+#import lib/brdf.wgsl
+#import lib/gbuffer_packing.wgsl
+#import lib/color.wgsl
+#import lib/surface.wgsl
+
+// A sample's contribution weight that marks it not reusable.
+const GI_NOT_REUSABLE: f32 = -1.0;
+
+struct GiSample {
+    point: vec3<f32>,
+    normal: vec3<f32>,
+    radiance: vec3<f32>,
+    weight: f32,
+}
+
+// A path that reached no point to reuse: counts as a candidate of weight 0.
+fn gi_sample_none() -> GiSample {
+    return GiSample(vec3<f32>(0.0), vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0), 0.0);
+}
+
+// A path whose contribution `c` is shaded as is and never reused.
+fn gi_sample_own(c: vec3<f32>) -> GiSample {
+    return GiSample(vec3<f32>(0.0), vec3<f32>(0.0, 0.0, 1.0), c, GI_NOT_REUSABLE);
+}
+
+fn gi_sample_reusable(s: GiSample) -> bool {
+    return s.weight >= 0.0;
+}
+
+fn gi_sample_pack_point(s: GiSample) -> vec4<u32> {
+    return vec4<u32>(bitcast<vec3<u32>>(s.point), bitcast<u32>(s.weight));
+}
+
+fn gi_sample_pack_radiance(s: GiSample) -> vec4<u32> {
+    return vec4<u32>(bitcast<vec3<u32>>(s.radiance), octahedral_encode(s.normal));
+}
+
+// A packed sample; anything not finite (a NaN written by a broken path or a test) becomes a
+// sample of weight 0.
+fn gi_sample_unpack(point: vec4<u32>, radiance: vec4<u32>) -> GiSample {
+    var s = GiSample(bitcast<vec3<f32>>(point.xyz), octahedral_decode(radiance.w),
+        bitcast<vec3<f32>>(radiance.xyz), bitcast<f32>(point.w));
+    if !vec3_is_finite(s.point) || !vec3_is_finite(s.radiance) || !f32_is_finite(s.weight)
+        || any(s.radiance < vec3<f32>(0.0)) {
+        return gi_sample_none();
+    }
+    return s;
+}
+
+// The sample's area-measure weight for a path from x whose first bounce, drawn with
+// solid-angle pdf `pdf`, reached y with geometric normal n_y: d^2 / (pdf cos_y); 0 where the
+// segment grazes y or the pdf is not positive.
+fn gi_area_weight(x: vec3<f32>, y: vec3<f32>, n_y: vec3<f32>, pdf: f32) -> f32 {
+    let to_x = x - y;
+    let d2 = dot(to_x, to_x);
+    let cos_y = abs(dot(n_y, to_x)) * inverseSqrt(max(d2, 1e-30));
+    let w = d2 / (pdf * cos_y);
+    return select(0.0, w, pdf > 0.0 && cos_y > 0.0 && f32_is_finite(w));
+}
+
+// cos_y / d^2 of the segment from x to the sample's point: the area-to-solid-angle factor.
+fn gi_geometry(x: vec3<f32>, sample: GiSample) -> f32 {
+    let to_x = x - sample.point;
+    let d2 = dot(to_x, to_x);
+    let g = abs(dot(sample.normal, to_x)) * inverseSqrt(max(d2, 1e-30)) / d2;
+    return select(0.0, g, f32_is_finite(g) && d2 > 0.0);
+}
+
+// f cos_x L cos_y / d^2 at the shading point s of the sample's light, before visibility: 0
+// where the direction leaves on the wrong side of s.
+fn gi_value(s: Shading, sample: GiSample) -> vec3<f32> {
+    let wi = safe_normalize(sample.point - s.position, vec3<f32>(0.0, 0.0, 1.0));
+    let local = frame_to_local(s.frame, wi);
+    if !on_its_side(s, wi, local.z) {
+        return vec3<f32>(0.0);
+    }
+    let v = brdf_eval(s.params, s.wo, local) * abs(local.z) * sample.radiance
+        * gi_geometry(s.position, sample);
+    return select(vec3<f32>(0.0), v, vec3_is_finite(v));
+}
