@@ -103,11 +103,8 @@ fn main(@builtin(workgroup_id) workgroup: vec3<u32>, @builtin(local_invocation_i
         let g = gbuffer_unpack(texels);
         if g.shades && params.spp > 0u {
             let x0 = gbuffer_shading(g, gbuffer_triangle_at(pixel), camera);
-            let index = id.y * size.x + id.x;
-            let seed = vec2<u32>(params.seed_lo, params.seed_hi);
-            var rng = pcg32_new(seed ^ INDIRECT_SEED, vec2<u32>(index, params.frame));
-            let first = FirstBounce(first_bounce_numbers(seed, index, params.frame),
-                textureLoad(first_bounce, pixel, 0));
+            let start = path_start(id.y * size.x + id.x, textureLoad(first_bounce, pixel, 0));
+            var rng = start.rng;
             // `spp` is loaded once, before the loop over paths, and passed in: a load inside a
             // loop that invocations leave at different iterations must not be read again
             // after it. llvmpipe's GL driver (Mesa 22.3) reused the loop's load of params.spp
@@ -115,7 +112,7 @@ fn main(@builtin(workgroup_id) workgroup: vec3<u32>, @builtin(local_invocation_i
             // radiance 0 / 0, a NaN the composite's guard turned black (docs/architecture.md,
             // "Portability").
             let spp = params.spp;
-            radiance = trace_paths(x0, &rng, first, spp) / f32(spp);
+            radiance = trace_paths(x0, &rng, start.first, spp) / f32(spp);
         }
     }
     textureStore(indirect_out, pixel, vec4<f32>(radiance, 1.0));

@@ -89,12 +89,9 @@ fn main(@builtin(workgroup_id) workgroup: vec3<u32>, @builtin(local_invocation_i
         let g = gbuffer_unpack(texels);
         if g.shades {
             let x0 = gbuffer_shading(g, gbuffer_triangle_at(pixel), camera);
-            let index = id.y * size.x + id.x;
-            let seed = vec2<u32>(params.seed_lo, params.seed_hi);
-            var rng = pcg32_new(seed ^ INDIRECT_SEED, vec2<u32>(index, params.frame));
-            let first = FirstBounce(first_bounce_numbers(seed, index, params.frame),
-                textureLoad(first_bounce, pixel, 0));
-            sample = gi_path(x0, &rng, first);
+            let start = path_start(id.y * size.x + id.x, textureLoad(first_bounce, pixel, 0));
+            var rng = start.rng;
+            sample = gi_path(x0, &rng, start.first);
         }
     }
     let centre = size / 2u;

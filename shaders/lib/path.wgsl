@@ -101,6 +101,20 @@ struct Path {
     depth: u32,
 }
 
+// A pixel's path numbers, one PCG32 on the direct pass's stream (pixel index, frame) at the
+// seed XOR INDIRECT_SEED, and its first bounce: the numbers of the direct pass's BRDF ray from
+// x0 and that ray's hit texel.
+struct PathStart {
+    rng: Pcg32,
+    first: FirstBounce,
+}
+
+fn path_start(index: u32, first_texel: vec4<u32>) -> PathStart {
+    let seed = vec2<u32>(params.seed_lo, params.seed_hi);
+    return PathStart(pcg32_new(seed ^ INDIRECT_SEED, vec2<u32>(index, params.frame)),
+        FirstBounce(first_bounce_numbers(seed, index, params.frame), first_texel));
+}
+
 fn path_from(x0: Shading) -> Path {
     return Path(x0, vec3<f32>(1.0), vec3<f32>(0.0), 0u);
 }

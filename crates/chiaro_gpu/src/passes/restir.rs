@@ -148,7 +148,11 @@ mod tests {
         assert_eq!(moving.firefly_clamp, 1.5);
         let still = RestirParams::new(&settings, (3, 7), (0, 1.5), true, true);
         assert_eq!(
-            (still.temporal, still.unbiased, still.indirect_spatial_samples),
+            (
+                still.temporal,
+                still.unbiased,
+                still.indirect_spatial_samples
+            ),
             (0, 1, 0)
         );
     }
