@@ -244,7 +244,7 @@ fn environment_motion(pixel: vec2<i32>) -> vec2<f32> {
 // by resolve_tone_weight) under motion, whose one jittered sample at a silhouette would
 // otherwise show for a frame with full weight.
 fn resolve(pixel: vec2<i32>, local: vec2<u32>, size: vec2<i32>, x: vec3<f32>) -> vec4<f32> {
-    var motion = bitcast<vec2<f32>>(textureLoad(gbuffer_motion, pixel, 0).xy);
+    var motion = motion_unpack(textureLoad(gbuffer_motion, pixel, 0).x);
     if resolve_surface(pixel) == 0u {
         motion = environment_motion(pixel);
     }

@@ -147,8 +147,8 @@ struct GbufferOut {
     @location(0) position: vec4<u32>,
     @location(1) surface: vec4<u32>,
     @location(2) emission: vec4<u32>,
-    // f32 bits.
-    @location(3) motion: vec2<u32>,
+    // lib/gbuffer_packing.wgsl's motion_pack.
+    @location(3) motion: u32,
     @location(4) triangle: u32,
 }
 
@@ -208,6 +208,6 @@ fn fs_main(in: VertexOut) -> GbufferOut {
     let now = camera.unjittered_view_proj * vec4<f32>(in.world, 1.0);
     let size = vec2<f32>(camera.width, camera.height);
     let to_pixel = vec2<f32>(0.5, -0.5) * size;
-    out.motion = bitcast<vec2<u32>>((in.previous_clip.xy / in.previous_clip.w - now.xy / now.w) * to_pixel);
+    out.motion = motion_pack((in.previous_clip.xy / in.previous_clip.w - now.xy / now.w) * to_pixel);
     return out;
 }

@@ -19,7 +19,7 @@
 @group(1) @binding(1) var out_position: texture_storage_2d<rgba32uint, write>;
 @group(1) @binding(2) var out_surface: texture_storage_2d<rgba32uint, write>;
 @group(1) @binding(3) var out_emission: texture_storage_2d<rgba32uint, write>;
-@group(1) @binding(4) var out_motion: texture_storage_2d<rg32uint, write>;
+@group(1) @binding(4) var out_motion: texture_storage_2d<r32uint, write>;
 @group(1) @binding(5) var out_triangle: texture_storage_2d<r32uint, write>;
 
 // The distance along `direction` (unit) at which a ray from the camera crosses the near plane.
@@ -79,5 +79,5 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let before = camera.previous_view_proj * vec4<f32>(previous, 1.0);
     let to_pixel = vec2<f32>(0.5, -0.5) * vec2<f32>(camera.width, camera.height);
     let motion = (before.xy / before.w - now.xy / now.w) * to_pixel;
-    textureStore(out_motion, pixel, vec4<u32>(bitcast<vec2<u32>>(motion), 0u, 0u));
+    textureStore(out_motion, pixel, vec4<u32>(motion_pack(motion), 0u, 0u, 0u));
 }

@@ -103,7 +103,7 @@ fn initial_reservoir(s: Shading, rng: ptr<function, Pcg32>, kept_target: ptr<fun
 // Last frame's reservoir at the point `pixel` moved from, where its surface is similar; an
 // empty one (M 0) where not.
 fn history_reservoir(pixel: vec2<i32>, depth: f32, normal: vec3<f32>, size: vec2<u32>) -> Reservoir {
-    let motion = bitcast<vec2<f32>>(textureLoad(gbuffer_motion, pixel, 0).xy);
+    let motion = motion_unpack(textureLoad(gbuffer_motion, pixel, 0).x);
     if params.temporal == 0u || !all(abs(motion) < vec2<f32>(1.0e6)) {
         return reservoir_empty();
     }

@@ -25,6 +25,7 @@
 #import lib/generated.wgsl
 #import lib/float.wgsl
 #import lib/camera.wgsl
+#import lib/gbuffer_packing.wgsl
 #import lib/demodulate.wgsl
 #import lib/denoise.wgsl
 
@@ -171,7 +172,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     textureStore(lighting_out, p, vec4<f32>(lighting, 0.0));
 
     // Bilinear history over the accepted texels.
-    let motion = bitcast<vec2<f32>>(textureLoad(gbuffer_motion, p, 0).xy);
+    let motion = motion_unpack(textureLoad(gbuffer_motion, p, 0).x);
     // Texel centres sit at +0.5: the taps around the point p + 0.5 + motion start at floor(p + motion).
     let previous = vec2<f32>(p) + motion;
     var color = vec3<f32>(0.0);

@@ -27,6 +27,55 @@ struct GbufferTexels {
     emission: vec4<u32>,
 }
 
+// Motion vectors (pixels to the previous frame's position) as two f16 in one u32 (x low): one
+// format that every backend can render to and write from a compute pass (GL has no rg32uint
+// storage images). f16 keeps 11 significant bits: 1/2048 pixel at half a pixel of motion,
+// 1/32 at 64. The halves are converted by hand (round to nearest, below f16's least normal
+// flushed to zero): WGSL's pack2x16float needs a capability GL ES may lack. A motion out of
+// f16's range (or not finite) becomes MOTION_NONE, which unpacks to infinities: the readers
+// take no history there.
+const MOTION_NONE: u32 = 0x7c007c00u;
+
+// The f16 bits of x, |x| < 65000.
+fn motion_half(x: f32) -> u32 {
+    let bits = bitcast<u32>(x);
+    let sign = (bits >> 16u) & 0x8000u;
+    let magnitude = bits & 0x7fffffffu;
+    if magnitude < 0x38800000u {
+        return sign;
+    }
+    // Exponent rebiased from 127 to 15, mantissa cut from 23 to 10 bits and rounded (a carry
+    // into the exponent is still the right number).
+    let half = ((magnitude >> 13u) - (112u << 10u)) + ((magnitude >> 12u) & 1u);
+    return sign | half;
+}
+
+fn motion_from_half(h: u32) -> f32 {
+    let sign = (h & 0x8000u) << 16u;
+    let magnitude = h & 0x7fffu;
+    if magnitude == 0u {
+        return bitcast<f32>(sign);
+    }
+    if magnitude >= 0x7c00u {
+        return bitcast<f32>(sign | 0x7f800000u);
+    }
+    return bitcast<f32>(sign | ((magnitude << 13u) + (112u << 23u)));
+}
+
+fn motion_pack(m: vec2<f32>) -> u32 {
+    // |m| < 65000 on the bits (0x477de800 is 65000.0), so that a NaN fails too: llvmpipe's GL
+    // compares a NaN as less.
+    let magnitude = bitcast<vec2<u32>>(m) & vec2<u32>(0x7fffffffu);
+    if max(magnitude.x, magnitude.y) >= 0x477de800u {
+        return MOTION_NONE;
+    }
+    return motion_half(m.x) | (motion_half(m.y) << 16u);
+}
+
+fn motion_unpack(packed: u32) -> vec2<f32> {
+    return vec2<f32>(motion_from_half(packed & 0xffffu), motion_from_half(packed >> 16u));
+}
+
 fn octahedral_wrap(v: vec2<f32>) -> vec2<f32> {
     return (1.0 - abs(v.yx)) * select(vec2<f32>(-1.0), vec2<f32>(1.0), v >= vec2<f32>(0.0));
 }

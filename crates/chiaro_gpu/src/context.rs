@@ -53,7 +53,7 @@ pub enum ContextError {
 }
 
 /// The limits chiaro asks for: WebGPU's downlevel defaults with more storage buffers per stage,
-/// five colour targets and 64 bytes of them per sample (the G-buffer's use 60), and the
+/// five colour targets and 64 bytes of them per sample (the G-buffer's use 56), and the
 /// adapter's own buffer and texture sizes (large scenes need large storage buffers).
 pub fn required_limits(adapter: &wgpu::Limits) -> wgpu::Limits {
     wgpu::Limits {

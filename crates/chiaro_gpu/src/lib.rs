@@ -32,6 +32,7 @@ pub mod camera;
 pub mod context;
 pub mod denoiser;
 pub mod frame;
+pub mod gbuffer_image;
 pub mod gpu_scene;
 pub mod in_flight;
 pub mod passes;

@@ -15,9 +15,10 @@ use thiserror::Error;
 use crate::camera::{GpuCamera, NoCamera, active_camera};
 use crate::context::GpuContext;
 use crate::frame::{Frame, FrameInput, ScenePasses};
+pub use crate::gbuffer_image::GbufferImage;
 use crate::gpu_scene::{GpuScene, add_gpu_scene_systems};
 use crate::in_flight::{DEFAULT_FRAMES_IN_FLIGHT, MAX_FRAMES_IN_FLIGHT};
-use crate::readback::{PendingImage, ReadbackError, read_hdr, read_texture, start_read};
+use crate::readback::{PendingImage, ReadbackError, read_hdr, start_read};
 use crate::settings::{FrameSettings, LightSampling, SettingsError};
 use crate::shaders::ShaderError;
 use crate::still_view::Stillness;
@@ -123,36 +124,6 @@ pub fn jitter(seed: u64, frame: u32) -> Vec2 {
 pub fn coverage_frame_seed(seed: u64, frame: u32) -> u32 {
     chiaro_shading::coverage::hash_words(&[seed as u32, (seed >> 32) as u32, frame])
 }
-
-/// Parts of a G-buffer read back (for tests and debug views), row-major, top row first.
-#[derive(Clone, Debug)]
-pub struct GbufferImage {
-    /// World position per pixel (meaningless where `instance` is `None`).
-    pub position: Vec<Vec3>,
-    /// The instance drawn per pixel, `None` where nothing was.
-    pub instance: Vec<Option<u32>>,
-    /// The geometric normal per pixel (unit; its triangle's, turned to the camera's side where
-    /// the material is double-sided).
-    pub geometric_normal: Vec<Vec3>,
-    /// Pixels from the current to the previous frame's position of what the pixel shows.
-    pub motion: Vec<Vec2>,
-}
-
-/// The unit vector of an octahedral normal in two 16-bit snorms (x low), as
-/// `lib/gbuffer_packing.wgsl` decodes it.
-fn octahedral_decode(packed: u32) -> Vec3 {
-    let snorm = |bits: u32| (f32::from(bits as u16 as i16) / 32767.0).max(-1.0);
-    let f = Vec2::new(snorm(packed), snorm(packed >> 16));
-    let mut n = Vec3::new(f.x, f.y, 1.0 - f.x.abs() - f.y.abs());
-    let t = (-n.z).clamp(0.0, 1.0);
-    n.x += if n.x >= 0.0 { -t } else { t };
-    n.y += if n.y >= 0.0 { -t } else { t };
-    n.normalize()
-}
-
-/// The bits of the G-buffer emission target's w that hold the instance + 1; bits 31 and 30 are
-/// flags (`shaders/lib/gbuffer_packing.wgsl`: the surface shades, the back face is seen).
-const GBUFFER_INSTANCE_BITS: u32 = 0x3fff_ffff;
 
 /// Renders worlds on one GPU context.
 pub struct Renderer {
@@ -497,37 +468,12 @@ impl Renderer {
     /// The last frame's G-buffer: world positions, instance ids and motion vectors.
     pub fn read_gbuffer(&self) -> Result<GbufferImage, RenderError> {
         let frame = self.frame.as_ref().ok_or(RenderError::NotRendered)?;
-        let (device, queue) = (&self.context.device, &self.context.queue);
-        let t = &frame.targets;
-        let floats = |texture, bytes| -> Result<Vec<f32>, RenderError> {
-            Ok(bytemuck::pod_collect_to_vec(&read_texture(
-                device, queue, texture, bytes,
-            )?))
-        };
-        let position = floats(&t.position.texture, 16)?;
-        let motion = floats(&t.motion.texture, 8)?;
-        let emission: Vec<u32> =
-            bytemuck::pod_collect_to_vec(&read_texture(device, queue, &t.emission.texture, 16)?);
-        let surface: Vec<u32> =
-            bytemuck::pod_collect_to_vec(&read_texture(device, queue, &t.surface.texture, 16)?);
-        Ok(GbufferImage {
-            position: position
-                .chunks_exact(4)
-                .map(|p| Vec3::new(p[0], p[1], p[2]))
-                .collect(),
-            instance: emission
-                .chunks_exact(4)
-                .map(|e| (e[3] & GBUFFER_INSTANCE_BITS).checked_sub(1))
-                .collect(),
-            geometric_normal: surface
-                .chunks_exact(4)
-                .map(|s| octahedral_decode(s[0]))
-                .collect(),
-            motion: motion
-                .chunks_exact(2)
-                .map(|m| Vec2::new(m[0], m[1]))
-                .collect(),
-        })
+        let context = &self.context;
+        Ok(GbufferImage::read(
+            &context.device,
+            &context.queue,
+            &frame.targets,
+        )?)
     }
 
     /// The last frame's direct light reflected by the surfaces seen (the environment where

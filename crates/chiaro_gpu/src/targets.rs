@@ -8,8 +8,10 @@ pub const POSITION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint
 pub const SURFACE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 /// Format of the G-buffer's emission target (emission, instance, shading flag).
 pub const EMISSION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
-/// Format of the G-buffer's motion vectors (pixels to the previous frame's position, f32 bits).
-pub const MOTION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Uint;
+/// Format of the G-buffer's motion vectors (pixels to the previous frame's position, two f16
+/// in a u32: `motion_pack` in `shaders/lib/gbuffer_packing.wgsl`; a format GL can write from a
+/// compute pass, unlike `Rg32Uint`).
+pub const MOTION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 /// Format of the G-buffer's triangle target (the number of the triangle seen in its mesh).
 pub const TRIANGLE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 /// Depth format.

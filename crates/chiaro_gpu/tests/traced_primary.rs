@@ -50,6 +50,13 @@ fn the_traced_gbuffer_sees_what_the_raster_one_sees() {
     let Some(mut renderer) = renderer() else {
         return;
     };
+    // llvmpipe's GL hands some raster triangles another vertex's flat face (docs/architecture.md,
+    // "Flat attributes"): on a faceted sphere the raster normal is then a neighbouring facet's
+    // (measured on hard-cases: 488 pixels of 2304, all within 8 degrees), where the traced
+    // G-buffer takes the face of the triangle its ray hit. There, only a face more than 11
+    // degrees off counts as another face.
+    let gl = renderer.context.info.backend == wgpu::Backend::Gl;
+    let other_face_cos = if gl { 0.98 } else { 0.999 };
     for name in ["builtin:cornell", "builtin:hard-cases", "builtin:instances"] {
         let mut world = scene(name);
         let mut gbuffer = |primary| {
@@ -77,7 +84,7 @@ fn the_traced_gbuffer_sees_what_the_raster_one_sees() {
             );
             // On an edge of a box, the same instance's other face.
             let cos = raster.geometric_normal[i].dot(traced.geometric_normal[i]);
-            other_face += usize::from(cos < 0.999);
+            other_face += usize::from(cos < other_face_cos);
             // A still camera: nothing moves.
             assert!(
                 traced.motion[i].length() < 1e-3,

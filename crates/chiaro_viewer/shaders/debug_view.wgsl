@@ -87,7 +87,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             }
         }
         case 4u: {
-            let m = bitcast<vec2<f32>>(textureLoad(motion_target, p, 0).xy);
+            let m = motion_unpack(textureLoad(motion_target, p, 0).x);
             let shown = clamp(0.5 + 0.5 * m / params.motion_scale, vec2<f32>(0.0), vec2<f32>(1.0));
             colour = vec3<f32>(shown, 0.5);
         }

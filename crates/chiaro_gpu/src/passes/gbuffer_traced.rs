@@ -24,7 +24,8 @@ const OUTPUT_FORMATS: [wgpu::TextureFormat; 5] = [
 ];
 
 /// Whether `adapter` can run the traced G-buffer: five storage textures in a shader stage,
-/// and storage writes to each target's format (GL ES has no `rg32uint` images).
+/// and storage writes to each target's format (llvmpipe's GL has both: 32 storage textures a
+/// stage; its missing `rg32uint` storage images are why motion is packed in `r32uint`).
 pub fn traced_gbuffer_supported(adapter: &wgpu::Adapter) -> bool {
     let formats = OUTPUT_FORMATS.iter().all(|f| {
         adapter
