@@ -13,9 +13,10 @@ use crate::settings::RenderMode;
 use crate::shaders::ShaderError;
 use crate::specialization::{PipelineFeatures, SpecializedPipelines};
 
-/// The passes that read the scene (G-buffer, direct, indirect), each with its pipelines for
-/// every feature set it has rendered with. They do not depend on the output size, so a resized
-/// frame keeps them and recompiles nothing.
+/// The passes that read the scene (G-buffer, resampling, direct, indirect), each with its
+/// pipelines for every feature set it has rendered with. They do not depend on the output
+/// size, so a resized frame keeps them and recompiles nothing. A pass builds its pipelines only
+/// once a frame runs it: the resampling passes cost nothing to a frame without them.
 pub struct ScenePasses {
     pub(super) gbuffer: GbufferPass,
     /// The traced G-buffer, where the device can run it.
@@ -31,7 +32,7 @@ pub struct ScenePasses {
 impl ScenePasses {
     /// The passes for `scene`'s bind-group layout (their pipelines are built on first use),
     /// the traced G-buffer among them where the device can run it (`traced_gbuffer`:
-    /// [`GpuContext::traced_gbuffer`]).
+    /// [`crate::context::GpuContext::traced_gbuffer`]).
     pub fn new(
         device: &wgpu::Device,
         scene: &GpuScene,
