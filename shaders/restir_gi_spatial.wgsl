@@ -26,10 +26,10 @@
 #import lib/gbuffer_packing.wgsl
 #import lib/gbuffer_inputs.wgsl
 #import lib/surface.wgsl
-#import lib/sampling.wgsl
 #import lib/next_event.wgsl
 #import lib/color.wgsl
 #import lib/reservoir.wgsl
+#import lib/reservoir_neighbours.wgsl
 #import lib/gi_sample.wgsl
 #import lib/lane_tiles.wgsl
 
@@ -94,20 +94,13 @@ fn main(@builtin(workgroup_id) workgroup: vec3<u32>, @builtin(local_invocation_i
         var weight_sum = kept_target * own.weight;
         var count = 1u;
         for (var i = 0u; i < min(params.indirect_spatial_samples, GI_MAX_NEIGHBOURS); i++) {
-            let disc = concentric_disk(pcg32_next_vec2(&rng)) * params.spatial_radius;
+            let n = reservoir_neighbour(pixel, size, pcg32_next_vec2(&rng), params.spatial_radius,
+                depth, g.shading_normal);
             let rand = pcg32_next_f32(&rng);
-            let q = pixel + vec2<i32>(round(disc));
-            if all(q == pixel) || any(q < vec2<i32>(0)) || any(q >= vec2<i32>(size)) {
+            if !n.found {
                 continue;
             }
-            let neighbour_texels = gbuffer_load(q);
-            let n = gbuffer_unpack(neighbour_texels);
-            if !gbuffer_covered(neighbour_texels) || !n.shades
-                || !reservoir_surfaces_similar(reservoir_depth(camera, n.position),
-                    n.shading_normal, depth, g.shading_normal) {
-                continue;
-            }
-            let other = gi_sample_at(q);
+            let other = gi_sample_at(n.pixel);
             if !gi_sample_reusable(other) {
                 continue;
             }

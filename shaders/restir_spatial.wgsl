@@ -28,6 +28,7 @@
 #import lib/surface.wgsl
 #import lib/next_event.wgsl
 #import lib/reservoir.wgsl
+#import lib/reservoir_neighbours.wgsl
 #import lib/lane_tiles.wgsl
 
 @group(1) @binding(4) var<storage, read> params: RestirParams;
@@ -82,18 +83,12 @@ fn main(@builtin(workgroup_id) workgroup: vec3<u32>, @builtin(local_invocation_i
     found_reservoirs[0] = own;
     var found = 1u;
     for (var i = 0u; i < min(params.spatial_samples, MAX_DOMAINS - 1u); i++) {
-        let disc = concentric_disk(pcg32_next_vec2(&rng)) * params.spatial_radius;
-        let q = pixel + vec2<i32>(round(disc));
-        if all(q == pixel) || any(q < vec2<i32>(0)) || any(q >= vec2<i32>(size)) {
+        let n = reservoir_neighbour(pixel, size, pcg32_next_vec2(&rng), params.spatial_radius,
+            depth, g.shading_normal);
+        if !n.found {
             continue;
         }
-        let neighbour_texels = gbuffer_load(q);
-        let n = gbuffer_unpack(neighbour_texels);
-        let n_depth = reservoir_depth(camera, n.position);
-        if !gbuffer_covered(neighbour_texels) || !n.shades
-            || !reservoir_surfaces_similar(n_depth, n.shading_normal, depth, g.shading_normal) {
-            continue;
-        }
+        let q = n.pixel;
         pixels[found] = q;
         found_reservoirs[found] = reservoir_unpack(textureLoad(reservoirs_in, q, 0));
         found += 1u;

@@ -296,7 +296,7 @@ impl Frame {
             pad: 0,
         };
         queue.write_buffer(&self.direct_params, 0, bytemuck::bytes_of(&direct));
-        if s.resamples_direct_light() || s.resamples_indirect_light() {
+        if s.resamples() {
             // Last frame's reservoirs are this view's unless the history restarts or last
             // frame did not resample.
             let history = !input.reset_history && self.resampled;
@@ -455,7 +455,7 @@ impl Frame {
     ) -> Vec<PassTimes> {
         let (device, queue) = (&context.device, &context.queue);
         let start = std::time::Instant::now();
-        if input.settings.resamples_direct_light() || input.settings.resamples_indirect_light() {
+        if input.settings.resamples() {
             self.size_reservoirs(device);
         }
         self.write_params(queue, camera, input);

@@ -405,6 +405,12 @@ impl FrameSettings {
     pub fn resamples_indirect_light(&self) -> bool {
         self.mode == RenderMode::Realtime && self.restir.indirect
     }
+
+    /// Whether a frame of these settings resamples any light (it needs the reservoirs and the
+    /// resampling parameters).
+    pub fn resamples(&self) -> bool {
+        self.resamples_direct_light() || self.resamples_indirect_light()
+    }
 }
 
 #[cfg(test)]
