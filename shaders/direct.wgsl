@@ -29,7 +29,7 @@
 
 #import lib/generated.wgsl
 #import lib/float.wgsl
-#import lib/rng.wgsl
+#import lib/rng_source.wgsl
 #import lib/frame.wgsl
 #import lib/brdf.wgsl
 #import lib/camera.wgsl
@@ -55,7 +55,8 @@ struct DirectParams {
     firefly_clamp: f32,
     // 1: the area-light sample is the resampled reservoir's (when the pipeline has its code).
     restir: u32,
-    pad1: u32,
+    // 1: Owen-scrambled Sobol draws, `frame` being the sample index; 0: PCG32.
+    sampler: u32,
 }
 
 // lib/next_event.wgsl's hook.
@@ -123,7 +124,8 @@ fn main(@builtin(workgroup_id) workgroup: vec3<u32>, @builtin(local_invocation_i
         let s = gbuffer_shading(g, gbuffer_triangle_at(pixel), camera);
         let index = id.y * size.x + id.x;
         let seed = vec2<u32>(params.seed_lo, params.seed_hi);
-        var rng = pcg32_new(seed, vec2<u32>(index, params.frame));
+        var rng = rng_new(pcg32_new(seed, vec2<u32>(index, params.frame)), params.sampler, seed,
+            index, params.frame, RNG_STREAM_DIRECT);
         // Every punctual light (or one picked, unless the reservoirs hold them), then one
         // area-light sample.
         if !(restir_di_on(params.restir) && restir_punctual()) {
@@ -137,7 +139,7 @@ fn main(@builtin(workgroup_id) workgroup: vec3<u32>, @builtin(local_invocation_i
         } else {
             area = area_light(s, &rng);
         }
-        let numbers = first_bounce_numbers(seed, index, params.frame);
+        let numbers = first_bounce_numbers(seed, index, params.frame, params.sampler);
         let brdf = brdf_light(s, numbers, &first, weighing);
         // The firefly clamp takes the samples whose value can be rare and huge: the BRDF
         // sample, and the punctual light picked at random; not the exact punctual part, nor

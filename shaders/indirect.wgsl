@@ -42,7 +42,7 @@
 
 #import lib/generated.wgsl
 #import lib/float.wgsl
-#import lib/rng.wgsl
+#import lib/rng_source.wgsl
 #import lib/camera.wgsl
 #import lib/gbuffer_inputs.wgsl
 #import lib/surface.wgsl
@@ -67,7 +67,7 @@ fn light_tree_sampling() -> bool {
 // (or subgroup) take as many steps as the longest of their sums of path lengths, not the sum
 // of their longest paths. Each invocation draws its numbers in the same order as path after
 // path, so the estimate is the same.
-fn trace_paths(x0: Shading, rng: ptr<function, Pcg32>, first: FirstBounce, spp: u32) -> vec3<f32> {
+fn trace_paths(x0: Shading, rng: ptr<function, Rng>, first: FirstBounce, spp: u32) -> vec3<f32> {
     var sum = vec3<f32>(0.0);
     var path = path_from(x0);
     var done = 0u;
@@ -79,6 +79,7 @@ fn trace_paths(x0: Shading, rng: ptr<function, Pcg32>, first: FirstBounce, spp: 
                 break;
             }
             path = path_from(x0);
+            rng_start_stream(rng, RNG_STREAM_PATHS + done);
         }
     }
     return sum;

@@ -14,7 +14,7 @@
 
 #import lib/generated.wgsl
 #import lib/float.wgsl
-#import lib/rng.wgsl
+#import lib/rng_source.wgsl
 #import lib/camera.wgsl
 #import lib/gbuffer_inputs.wgsl
 #import lib/surface.wgsl
@@ -35,7 +35,7 @@ fn light_tree_sampling() -> bool {
 @group(1) @binding(7) var first_bounce: texture_2d<u32>;
 
 // The sample of one path from x0 whose first direction is `first`'s.
-fn gi_path(x0: Shading, rng: ptr<function, Pcg32>, first: FirstBounce) -> GiSample {
+fn gi_path(x0: Shading, rng: ptr<function, Rng>, first: FirstBounce) -> GiSample {
     let step = brdf_scatter(x0, first.numbers);
     if !step.valid || !vec3_is_finite(step.weight) || all(step.weight == vec3<f32>(0.0)) {
         return gi_sample_none();

@@ -3,7 +3,7 @@
 
 use clap::{Args, ValueEnum};
 
-use chiaro::gpu::{FrameSettings, RenderMode};
+use chiaro::gpu::{FrameSettings, RenderMode, Sampler};
 use chiaro::reference::LightSampling;
 use chiaro::shading::tonemap::exposure_from_ev;
 
@@ -83,6 +83,11 @@ pub struct FrameArgs {
     /// reused by its neighbours in motion (needs --spp 1).
     #[arg(long)]
     restir_gi: bool,
+    /// Where the reference and direct modes' numbers come from: sobol (the frames are each
+    /// pixel's samples of Owen-scrambled Sobol draws, as the CPU reference's) or independent
+    /// (PCG32 streams). The realtime and naive modes draw independent numbers.
+    #[arg(long, default_value = "sobol")]
+    sampler: Sampler,
 }
 
 /// `--primary`'s values.
@@ -117,6 +122,7 @@ impl FrameArgs {
             firefly_clamp: self.firefly_clamp,
             exposure: exposure_from_ev(self.exposure),
             primary: self.primary.into(),
+            sampler: self.sampler,
             ..FrameSettings::default()
         };
         settings.denoise.enabled = !self.no_denoise;

@@ -5,13 +5,13 @@
 // from x0, as chiaro_reference takes it.
 //
 // Both passes draw the sample's three random numbers (lobe, then the 2D direction) from one
-// PCG32 generator of their own, so each computes the same brdf_sample from the same G-buffer;
+// PCG32 generator of their own, or as one Sobol draw of its own stream (lib/rng_source.wgsl), so each computes the same brdf_sample from the same G-buffer;
 // only the hit travels, in one rgba32uint texel per pixel:
 // instance (FIRST_BOUNCE_NOT_TRACED where the direct pass traced no ray, BVH_NO_HIT for a
 // miss), triangle, and the barycentrics' f32 bits.
 
 #import lib/generated.wgsl
-#import lib/rng.wgsl
+#import lib/rng_source.wgsl
 #import lib/bvh.wgsl
 
 // XORed into the frame's seed (the 64-bit golden ratio of SplitMix64, as (low, high)). The
@@ -24,13 +24,12 @@ const FIRST_BOUNCE_SEED: vec2<u32> = vec2<u32>(0x7f4a7c15u, 0x9e3779b9u);
 // No ray was traced: the reader traces its own.
 const FIRST_BOUNCE_NOT_TRACED: u32 = 0xfffffffeu;
 
-// The random numbers of the BRDF sample at x0 in pixel `index` of `frame`: lobe choice in x,
-// the direction's 2D sample in yz.
-fn first_bounce_numbers(seed: vec2<u32>, index: u32, frame: u32) -> vec3<f32> {
-    var rng = pcg32_new(seed ^ FIRST_BOUNCE_SEED, vec2<u32>(index, frame));
-    let lobe = pcg32_next_f32(&rng);
-    let u = pcg32_next_vec2(&rng);
-    return vec3<f32>(lobe, u);
+// The random numbers of the BRDF sample at x0 in pixel `index` of `frame` (with `sobol` 1, the
+// pixel's sample index): lobe choice in x, the direction's 2D sample in yz.
+fn first_bounce_numbers(seed: vec2<u32>, index: u32, frame: u32, sobol: u32) -> vec3<f32> {
+    var rng = rng_new(pcg32_new(seed ^ FIRST_BOUNCE_SEED, vec2<u32>(index, frame)), sobol, seed,
+        index, frame, RNG_STREAM_FIRST_BOUNCE);
+    return rng_next_choice_vec2(&rng);
 }
 
 fn first_bounce_encode(hit: Hit) -> vec4<u32> {

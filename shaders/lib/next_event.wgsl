@@ -23,7 +23,7 @@
 #import lib/generated.wgsl
 #import lib/float.wgsl
 #import lib/bvh.wgsl
-#import lib/rng.wgsl
+#import lib/rng_source.wgsl
 #import lib/frame.wgsl
 #import lib/sampling.wgsl
 #import lib/brdf.wgsl
@@ -193,11 +193,11 @@ fn punctual_range(s: Shading, u: f32) -> PunctualRange {
 // Every punctual light when there are few, else one picked, over its probability
 // (punctual_range). Either way one loop casts the shadow rays (lib/bvh.wgsl says why lavapipe
 // wants each trace in one place).
-fn punctual_light(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
+fn punctual_light(s: Shading, rng: ptr<function, Rng>) -> vec3<f32> {
     var u = 0.0;
     if !punctual_lights_all_evaluated() {
         // Drawn whatever the features, so that the random numbers after it stay the same.
-        u = pcg32_next_f32(rng);
+        u = rng_next_f32(rng);
     }
     let range = punctual_range(s, u);
     var total = vec3<f32>(0.0);
@@ -216,9 +216,10 @@ struct AreaSample {
     pmf: f32,
 }
 
-fn area_light_sample(s: Shading, rng: ptr<function, Pcg32>) -> AreaSample {
-    let pick = area_light_pick(s, pcg32_next_f32(rng));
-    let u = pcg32_next_vec2(rng);
+fn area_light_sample(s: Shading, rng: ptr<function, Rng>) -> AreaSample {
+    let numbers = rng_next_choice_vec2(rng);
+    let pick = area_light_pick(s, numbers.x);
+    let u = numbers.yz;
     if pick.pmf == 0.0 {
         return AreaSample(light_sample_none(), 1.0);
     }
@@ -280,7 +281,7 @@ fn area_light_at(s: Shading, index: u32, u: vec2<f32>) -> LightSample {
 }
 
 // One sample of the area-light table, weighted against BRDF sampling.
-fn area_light(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
+fn area_light(s: Shading, rng: ptr<function, Rng>) -> vec3<f32> {
     let area = area_light_sample(s, rng);
     let c = light_contribution(s, area.sample);
     if all(c.xyz == vec3<f32>(0.0)) {
@@ -313,9 +314,9 @@ fn light_unshadowed(s: Shading, ls: LightSample, pick_pmf: f32) -> vec3<f32> {
 // nonzero. The MIS weights are the direct pass's (emission_reached's counterpart is the area
 // sample as if always taken, so the two weights of a path still sum to 1). lavapipe runs every
 // block whatever its lanes decide, so one trace for all candidates is what saves the rays.
-fn next_event(s: Shading, rng: ptr<function, Pcg32>) -> vec3<f32> {
-    var u = pcg32_next_f32(rng);
-    let u_punctual = pcg32_next_f32(rng);
+fn next_event(s: Shading, rng: ptr<function, Rng>) -> vec3<f32> {
+    var u = rng_next_f32(rng);
+    let u_punctual = rng_next_f32(rng);
     let area = area_light_sample(s, rng);
     var chosen_ls = area.sample;
     var chosen = light_unshadowed(s, area.sample, area.pmf);

@@ -8,7 +8,7 @@
 #import lib/generated.wgsl
 #import lib/float.wgsl
 #import lib/bvh.wgsl
-#import lib/rng.wgsl
+#import lib/rng_source.wgsl
 #import lib/frame.wgsl
 #import lib/sampling.wgsl
 #import lib/brdf.wgsl
@@ -33,7 +33,8 @@ struct IndirectParams {
     light_sampling: u32,
     // Most luminance of one path's contribution; 0: off.
     firefly_clamp: f32,
-    pad0: u32,
+    // 1: Owen-scrambled Sobol draws, `frame` being the sample index; 0: PCG32.
+    sampler: u32,
     pad1: u32,
     pad2: u32,
 }
@@ -69,9 +70,9 @@ fn brdf_scatter(s: Shading, numbers: vec3<f32>) -> Scatter {
 
 // The next direction from s, uniform over the hemisphere of its shading normal (naive mode),
 // or over the whole sphere for a transmissive surface.
-fn uniform_scatter(s: Shading, rng: ptr<function, Pcg32>) -> Scatter {
+fn uniform_scatter(s: Shading, rng: ptr<function, Rng>) -> Scatter {
     var out: Scatter;
-    let u = pcg32_next_vec2(rng);
+    let u = rng_next_vec2(rng);
     var wi = uniform_hemisphere(u);
     out.pdf = UNIFORM_HEMISPHERE_PDF;
     if FEATURE_TRANSMISSION && s.params.transmission > 0.0 {
@@ -105,14 +106,15 @@ struct Path {
 // seed XOR INDIRECT_SEED, and its first bounce: the numbers of the direct pass's BRDF ray from
 // x0 and that ray's hit texel.
 struct PathStart {
-    rng: Pcg32,
+    rng: Rng,
     first: FirstBounce,
 }
 
 fn path_start(index: u32, first_texel: vec4<u32>) -> PathStart {
     let seed = vec2<u32>(params.seed_lo, params.seed_hi);
-    return PathStart(pcg32_new(seed ^ INDIRECT_SEED, vec2<u32>(index, params.frame)),
-        FirstBounce(first_bounce_numbers(seed, index, params.frame), first_texel));
+    let pcg = pcg32_new(seed ^ INDIRECT_SEED, vec2<u32>(index, params.frame));
+    return PathStart(rng_new(pcg, params.sampler, seed, index, params.frame, RNG_STREAM_PATHS),
+        FirstBounce(first_bounce_numbers(seed, index, params.frame, params.sampler), first_texel));
 }
 
 fn path_from(x0: Shading) -> Path {
@@ -123,7 +125,7 @@ fn path_from(x0: Shading) -> Path {
 // direction, its ray (with `first_path`, the step from x0 is `first`'s, not in naive mode), the
 // emission it reaches and the surface at its hit, which becomes the path's vertex. False when
 // the path ends at this step.
-fn path_step(path: ptr<function, Path>, rng: ptr<function, Pcg32>, first_path: bool,
+fn path_step(path: ptr<function, Path>, rng: ptr<function, Rng>, first_path: bool,
     first: FirstBounce) -> bool {
     let naive = params.naive != 0u;
     let s = (*path).s;
@@ -140,8 +142,7 @@ fn path_step(path: ptr<function, Path>, rng: ptr<function, Pcg32>, first_path: b
         // arm of a branch, so two calls cost two BRDF samples.
         var numbers = first.numbers;
         if !reuse {
-            let u_lobe = pcg32_next_f32(rng);
-            numbers = vec3<f32>(u_lobe, pcg32_next_vec2(rng));
+            numbers = rng_next_choice_vec2(rng);
         }
         step = brdf_scatter(s, numbers);
     }
@@ -156,7 +157,7 @@ fn path_step(path: ptr<function, Path>, rng: ptr<function, Pcg32>, first_path: b
     if depth + 1u >= RUSSIAN_ROULETTE_FROM {
         let survive = clamp(max(max(throughput.x, throughput.y), throughput.z),
             RUSSIAN_ROULETTE_MIN, 1.0);
-        if pcg32_next_f32(rng) >= survive {
+        if rng_next_f32(rng) >= survive {
             return false;
         }
         throughput /= survive;

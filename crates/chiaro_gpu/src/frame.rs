@@ -34,7 +34,7 @@ use crate::passes::indirect::IndirectParams;
 use crate::passes::restir::RestirParams;
 use crate::passes::tonemap::{TonemapParams, TonemapPass};
 use crate::settings::{
-    FrameSettings, LightSampling, PrimaryVisibility, REFERENCE_BOUNCES, RenderMode,
+    FrameSettings, LightSampling, PrimaryVisibility, REFERENCE_BOUNCES, RenderMode, Sampler,
 };
 use crate::shaders::ShaderError;
 use crate::specialization::PipelineFeatures;
@@ -285,15 +285,23 @@ impl Frame {
         queue.write_buffer(&self.camera, 0, bytemuck::bytes_of(camera));
         let (seed_lo, seed_hi) = (input.seed as u32, (input.seed >> 32) as u32);
         let naive = s.mode == RenderMode::Naive;
+        // Sobol draws number the samples of a pixel from 0: the frames accumulated before.
+        let sobol = matches!(s.mode, RenderMode::Reference | RenderMode::Direct)
+            && s.sampler == Sampler::Sobol;
+        let frame = if sobol {
+            input.accumulated.saturating_sub(1)
+        } else {
+            input.frame
+        };
         let direct = DirectParams {
-            frame: input.frame,
+            frame,
             seed_lo,
             seed_hi,
             lights: u32::from(!naive),
             light_sampling: light_sampling(s),
             firefly_clamp: firefly_clamp(s),
             restir: u32::from(s.resamples_direct_light()),
-            pad: 0,
+            sampler: u32::from(sobol),
         };
         queue.write_buffer(&self.direct_params, 0, bytemuck::bytes_of(&direct));
         if s.resamples() {
@@ -313,7 +321,7 @@ impl Frame {
         }
         self.resampled = s.resamples_direct_light();
         let indirect = IndirectParams {
-            frame: input.frame,
+            frame,
             seed_lo,
             seed_hi,
             spp: s.spp,
@@ -326,7 +334,8 @@ impl Frame {
             poison: u32::from(input.poison),
             light_sampling: light_sampling(s),
             firefly_clamp: firefly_clamp(s),
-            pad: [0; 3],
+            sampler: u32::from(sobol),
+            pad: [0; 2],
         };
         queue.write_buffer(&self.indirect_params, 0, bytemuck::bytes_of(&indirect));
         let weights = history_weights(&s.denoise, input.stillness);

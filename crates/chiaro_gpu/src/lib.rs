@@ -53,7 +53,7 @@ pub use readback::PendingImage;
 pub use renderer::{GbufferImage, RenderError, RenderOutput, RenderSettings, Renderer};
 pub use settings::{
     DenoiseSettings, FrameSettings, PrimaryVisibility, RenderMode, RestirBias, RestirSettings,
-    SettingsError,
+    Sampler, SettingsError,
 };
 pub use shaders::{ShaderError, compose};
 pub use specialization::{PipelineChoice, PipelineFeatures};

@@ -3,6 +3,7 @@
 
 use bevy_ecs::prelude::Resource;
 pub use chiaro_shading::light_tree::LightSampling;
+pub use chiaro_shading::owen_sobol::Sampler;
 use chiaro_shading::tonemap::Tonemapper;
 use thiserror::Error;
 
@@ -279,6 +280,12 @@ pub struct FrameSettings {
     pub primary: PrimaryVisibility,
     /// The realtime and direct modes' resampled direct light.
     pub restir: RestirSettings,
+    /// Where the reference and direct modes' random numbers come from: `Sobol` (the default),
+    /// the pixel's frames accumulated being its samples of Owen-scrambled Sobol draws, as the
+    /// CPU reference's default sampler (less noise at equal frames, unbiased), or
+    /// `Independent` PCG32 streams. The realtime mode (whose frames are not samples of one
+    /// image) and the naive mode (the notes' baseline) draw PCG32 numbers whatever it says.
+    pub sampler: Sampler,
 }
 
 impl Default for FrameSettings {
@@ -295,6 +302,7 @@ impl Default for FrameSettings {
             firefly_clamp: DEFAULT_FIREFLY_CLAMP,
             primary: PrimaryVisibility::Raster,
             restir: RestirSettings::default(),
+            sampler: Sampler::Sobol,
         }
     }
 }

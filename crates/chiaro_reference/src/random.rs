@@ -54,38 +54,4 @@ impl RandomSource for Pcg32 {
     }
 }
 
-/// Where a render's numbers come from (Metropolis light transport mutates its own).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum Sampler {
-    /// Independent uniform numbers, one [`Pcg32`] stream per pixel: plain Monte Carlo, whose
-    /// error falls as 1/n.
-    Independent,
-    /// Owen-scrambled Sobol points, one or two dimensions per draw (module `sobol`):
-    /// randomised quasi-Monte Carlo, unbiased, each draw stratified over a pixel's samples.
-    #[default]
-    Sobol,
-}
-
-impl std::fmt::Display for Sampler {
-    /// Its name on the command line.
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            Self::Independent => "independent",
-            Self::Sobol => "sobol",
-        })
-    }
-}
-
-impl std::str::FromStr for Sampler {
-    type Err = String;
-
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        match s {
-            "independent" => Ok(Self::Independent),
-            "sobol" => Ok(Self::Sobol),
-            other => Err(format!(
-                "unknown sampler '{other}' (expected independent or sobol)"
-            )),
-        }
-    }
-}
+pub use chiaro_shading::owen_sobol::Sampler;

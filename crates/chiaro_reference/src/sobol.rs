@@ -22,115 +22,18 @@
 //! this way is the layout of pbrt-v4's padded Sobol sampler (Pharr, Jakob and Humphreys,
 //! "Physically Based Rendering", 4th ed., section 8.7).
 //!
+//! The Sobol dimensions and the permutation are [`chiaro_shading::owen_sobol`]'s, shared with
+//! the GPU's reference mode; this sampler keys its scrambles by 64-bit hashes.
+//!
 //! The bidirectional tracer's [`Stream`]s each number their dimensions from zero, so a longer
 //! camera subpath does not shift what its light subpath reads.
 
+use chiaro_shading::owen_sobol::{
+    laine_karras, scramble_reversed, sobol_second_reversed, sobol_third_reversed, to_unit,
+};
 use glam::Vec2;
 
 use crate::random::{RandomSource, Stream};
-
-/// Direction numbers of the Sobol sequence's second dimension: bit k of the index XORs column k
-/// into the point. From the polynomial x + 1 (degree 1, initial number m_1 = 1), the recurrence
-/// is v_k = v_(k-1) ^ (v_(k-1) >> 1), starting at one half.
-const SECOND_DIMENSION: [u32; 32] = second_dimension_columns();
-
-const fn second_dimension_columns() -> [u32; 32] {
-    let mut columns = [0u32; 32];
-    columns[0] = 1 << 31;
-    let mut k = 1;
-    while k < 32 {
-        columns[k] = columns[k - 1] ^ (columns[k - 1] >> 1);
-        k += 1;
-    }
-    columns
-}
-
-/// A dimension's columns combined a byte of the index at a time, bits reversed: entry [b][v] is
-/// the XOR of the columns of byte b's set bits in v, reversed (the form the scramble reads).
-type ByteTables = [[u32; 256]; 4];
-
-/// [`SECOND_DIMENSION`] by bytes.
-const SECOND_DIMENSION_BYTES: ByteTables = byte_tables(&SECOND_DIMENSION);
-
-/// [`THIRD_DIMENSION`] by bytes.
-const THIRD_DIMENSION_BYTES: ByteTables = byte_tables(&THIRD_DIMENSION);
-
-const fn byte_tables(columns: &[u32; 32]) -> ByteTables {
-    let mut table = [[0u32; 256]; 4];
-    let mut byte = 0;
-    while byte < 4 {
-        let mut v = 0;
-        while v < 256 {
-            let mut point = 0;
-            let mut k = 0;
-            while k < 8 {
-                if v & (1 << k) != 0 {
-                    point ^= columns[8 * byte + k];
-                }
-                k += 1;
-            }
-            table[byte][v] = point.reverse_bits();
-            v += 1;
-        }
-        byte += 1;
-    }
-    table
-}
-
-/// Direction numbers of the Sobol sequence's third dimension, from the polynomial x^2 + x + 1
-/// (degree 2, a = 1, initial numbers m = 1, 3; Joe and Kuo 2008): v_k = v_(k-1) ^ v_(k-2) ^
-/// (v_(k-2) >> 2).
-const THIRD_DIMENSION: [u32; 32] = third_dimension_columns();
-
-const fn third_dimension_columns() -> [u32; 32] {
-    let mut columns = [0u32; 32];
-    columns[0] = 1 << 31;
-    columns[1] = 3 << 30;
-    let mut k = 2;
-    while k < 32 {
-        columns[k] = columns[k - 1] ^ columns[k - 2] ^ (columns[k - 2] >> 2);
-        k += 1;
-    }
-    columns
-}
-
-/// Point `index` of the dimension whose byte tables are `tables`, as a 32-bit fraction with its
-/// bits reversed.
-fn by_bytes(tables: &ByteTables, index: u32) -> u32 {
-    let [b0, b1, b2, b3] = index.to_le_bytes();
-    tables[0][b0 as usize]
-        ^ tables[1][b1 as usize]
-        ^ tables[2][b2 as usize]
-        ^ tables[3][b3 as usize]
-}
-
-/// The second Sobol dimension of point `index`, bits reversed.
-fn sobol_second_reversed(index: u32) -> u32 {
-    by_bytes(&SECOND_DIMENSION_BYTES, index)
-}
-
-/// The third Sobol dimension of point `index`, bits reversed.
-fn sobol_third_reversed(index: u32) -> u32 {
-    by_bytes(&THIRD_DIMENSION_BYTES, index)
-}
-
-/// Burley's (2020) improved Laine-Karras permutation: a multiplication by an odd number, an
-/// addition, and XORs with products by even numbers, each of which changes a bit only as the
-/// bits below it say. Applied to a fraction's reversed bits, it is a nested uniform (Owen)
-/// scramble drawn by `seed`: each bit flipped or not depending on the bits above it alone.
-fn laine_karras(mut v: u32, seed: u32) -> u32 {
-    v ^= v.wrapping_mul(0x3d20_adea);
-    v = v.wrapping_add(seed);
-    v = v.wrapping_mul((seed >> 16) | 1);
-    v ^= v.wrapping_mul(0x0552_6c56);
-    v ^= v.wrapping_mul(0x53a2_2864);
-    v
-}
-
-/// The nested uniform scramble of the 32-bit fraction whose bits reversed are `reversed`.
-fn scramble_reversed(reversed: u32, seed: u32) -> u32 {
-    laine_karras(reversed, seed).reverse_bits()
-}
 
 /// A 64-bit mixing function (the finaliser of Steele, Lea and Flood's SplitMix64): every input
 /// bit changes about half the output bits.
@@ -140,11 +43,6 @@ fn mix(mut x: u64) -> u64 {
     x ^= x >> 27;
     x = x.wrapping_mul(0x94d0_49bb_1331_11eb);
     x ^ (x >> 31)
-}
-
-/// A 32-bit fraction as a float in [0, 1): its top 24 bits, exactly.
-fn to_unit(x: u32) -> f32 {
-    (x >> 8) as f32 * (1.0 / 16_777_216.0)
 }
 
 /// The scrambled first two coordinates of the dimension with hash `hash`, whose shuffled

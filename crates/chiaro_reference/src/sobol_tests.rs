@@ -16,11 +16,6 @@ fn sobol_second(index: u32) -> u32 {
     sobol_second_reversed(index).reverse_bits()
 }
 
-/// The third Sobol dimension of point `index` as a 32-bit fraction.
-fn sobol_third(index: u32) -> u32 {
-    sobol_third_reversed(index).reverse_bits()
-}
-
 /// The points of sample `index`'s `draws`-th two-number draw (after `draws` earlier ones).
 fn vec2_draw(sampler: &mut OwenSobol, index: u32, draws: usize) -> Vec2 {
     sampler.start_sample(index);
@@ -166,25 +161,6 @@ fn a_stream_reads_the_same_numbers_whatever_came_before() {
         (sampler.next_f32(), sampler.next_vec2())
     };
     assert_eq!(light(0), light(7));
-}
-
-#[test]
-fn the_byte_tables_combine_the_columns() {
-    let mut rng = chiaro_shading::rng::Pcg32::new(3, 4);
-    type ByTables = fn(u32) -> u32;
-    let dimensions: [(&[u32; 32], ByTables); 2] = [
-        (&SECOND_DIMENSION, sobol_second),
-        (&THIRD_DIMENSION, sobol_third),
-    ];
-    for (columns, by_tables) in dimensions {
-        for _ in 0..1000 {
-            let index = rng.next_u32();
-            let by_bits = (0..32)
-                .filter(|k| index & (1 << k) != 0)
-                .fold(0, |point, k| point ^ columns[k]);
-            assert_eq!(by_tables(index), by_bits, "index {index:#x}");
-        }
-    }
 }
 
 #[test]

@@ -6,6 +6,7 @@
 //!
 //! - [`color`]: the sRGB transfer functions and luminance.
 //! - [`rng`]: PCG32, the random stream both sides draw from.
+//! - [`owen_sobol`]: Owen-scrambled Sobol points, the quasi-random draws of the references.
 //! - [`frame`]: the local shading frame (z = normal).
 //! - [`sampling`]: warps from uniform numbers to directions and points; the power heuristic.
 //! - [`distribution`]: discrete 1D and 2D distributions (light selection, environment texels).
@@ -66,6 +67,7 @@ pub mod frame;
 pub mod ggx;
 pub mod light_tree;
 pub mod lights;
+pub mod owen_sobol;
 pub mod reservoir;
 pub mod rng;
 pub mod sampling;

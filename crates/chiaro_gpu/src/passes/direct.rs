@@ -38,8 +38,9 @@ pub struct DirectParams {
     /// 1: the area-light sample is the final reservoir's of the resampling passes
     /// (`passes::restir`), where the pipeline has their code.
     pub restir: u32,
-    /// Padding.
-    pub pad: u32,
+    /// 1: Owen-scrambled Sobol draws, `frame` being the pixel's sample index (the reference
+    /// mode's frames accumulated before this one); 0: PCG32 streams.
+    pub sampler: u32,
 }
 
 /// Selects the direct pass's shader and outputs: the direct light, the part of it from

@@ -36,8 +36,11 @@ pub struct IndirectParams {
     /// Most luminance of one path's contribution, a brighter one scaled down to it; 0: no
     /// clamp (`FrameSettings::firefly_clamp`, realtime mode only).
     pub firefly_clamp: f32,
+    /// 1: Owen-scrambled Sobol draws, `frame` being the pixel's sample index (the reference
+    /// mode's frames accumulated before this one); 0: PCG32 streams.
+    pub sampler: u32,
     /// Padding to 16 bytes.
-    pub pad: [u32; 3],
+    pub pad: [u32; 2],
 }
 
 /// Selects the indirect pass's shader, output and input (the direct pass's BRDF-ray hits).
