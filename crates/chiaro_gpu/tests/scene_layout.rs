@@ -235,7 +235,8 @@ fn pass_params_match_their_wgsl_structs() {
                 ("poison", offset_of!(IndirectParams, poison)),
                 ("light_sampling", offset_of!(IndirectParams, light_sampling)),
                 ("firefly_clamp", offset_of!(IndirectParams, firefly_clamp)),
-                ("pad0", offset_of!(IndirectParams, pad)),
+                ("sampler", offset_of!(IndirectParams, sampler)),
+                ("pad1", offset_of!(IndirectParams, pad)),
             ],
         );
     }
@@ -251,7 +252,7 @@ fn pass_params_match_their_wgsl_structs() {
             ("light_sampling", offset_of!(DirectParams, light_sampling)),
             ("firefly_clamp", offset_of!(DirectParams, firefly_clamp)),
             ("restir", offset_of!(DirectParams, restir)),
-            ("pad1", offset_of!(DirectParams, pad)),
+            ("sampler", offset_of!(DirectParams, sampler)),
         ],
     );
     for shader in [
