@@ -22,9 +22,14 @@
 //!
 //! Measured on lavapipe, 32x32, the CPU reference at 512 spp (256 for the model), GPU seeds 1
 //! and 2 (relMSE; bound; interior difference in standard errors, R G B):
-//! - reference mode, Cornell box, 32 frames x 8 paths: 7.4e-3; 3.1e-2; -0.8 -0.9 -0.4.
-//! - reference mode, NormalTangentTest.glb under qwantani_afternoon_puresky_1k.hdr, 32 x 8:
-//!   4.2e-3; 8.3e-3; 1.5 0.6 -0.3.
+//! - reference mode, Cornell box, 128 frames x 2 paths: 1.4e-3; 3.3e-3; -0.9 -0.7 -1.4.
+//! - reference mode, NormalTangentTest.glb under qwantani_afternoon_puresky_1k.hdr, 128 x 2:
+//!   1.0e-2; 1.6e-2; 1.3 1.0 -1.6. The reference mode's draws are Owen-scrambled Sobol
+//!   points, whose per-pixel noise is low enough that the camera's sub-pixel jitter, one point
+//!   for the whole frame and so an error every pixel shares, shows in the interior sums: at
+//!   32 frames x 8 paths they were -1.8 -3.1 -4.7 standard errors apart (independent numbers:
+//!   the same percentage apart, within 4 standard errors of their larger noise). 128 frames of
+//!   2 paths trace as many paths with a quarter of the jitter's error.
 //! - naive mode, Cornell box, 32 frames x 32 paths: 3.8e-2; 0.12; 0.8 0.4 0.4.
 //! - realtime mode without the denoiser, Cornell box, 64 frames x 4 paths read back one by
 //!   one: bounces 1 against max_depth 2, 1.1e-3; 5.9e-3; -1.5 -2.2 -1.9; bounces 2 against
@@ -257,16 +262,17 @@ fn mode(mode: RenderMode, spp: u32, bounces: u32) -> FrameSettings {
     }
 }
 
-/// Checks 32 frames of `frame` (32x32) against the full CPU reference at `reference_spp`.
+/// Checks `frames` frames of `frame` (32x32) against the full CPU reference at `reference_spp`.
 fn full_paths_converge(
     name: &str,
     scene: &str,
     env: Option<&Path>,
     reference_spp: u32,
+    frames: u32,
     frame: FrameSettings,
 ) {
     let reference = cpu_reference(scene, env, 32, reference_spp, 64);
-    if let Some(gpu) = gpu_images(scene, env, 32, 32, frame) {
+    if let Some(gpu) = gpu_images(scene, env, 32, frames, frame) {
         check(name, &gpu, &reference, 3.0);
     }
 }
@@ -274,16 +280,23 @@ fn full_paths_converge(
 /// Reference mode on the Cornell box against the CPU reference at max_depth 64.
 #[test]
 fn reference_mode_converges_on_the_cornell_box() {
-    let frame = mode(RenderMode::Reference, 8, 2);
-    full_paths_converge("cornell reference", "builtin:cornell", None, 512, frame);
+    let frame = mode(RenderMode::Reference, 2, 2);
+    full_paths_converge(
+        "cornell reference",
+        "builtin:cornell",
+        None,
+        512,
+        128,
+        frame,
+    );
 }
 
 /// Reference mode on the normal-mapped model under the sky.
 #[test]
 fn reference_mode_converges_on_a_model_under_the_sky() {
     if let Some((model, sky)) = shared_model() {
-        let frame = mode(RenderMode::Reference, 8, 2);
-        full_paths_converge("model reference", &model, Some(&sky), 256, frame);
+        let frame = mode(RenderMode::Reference, 2, 2);
+        full_paths_converge("model reference", &model, Some(&sky), 256, 128, frame);
     }
 }
 
@@ -291,7 +304,7 @@ fn reference_mode_converges_on_a_model_under_the_sky() {
 #[test]
 fn naive_mode_converges_on_the_cornell_box() {
     let frame = mode(RenderMode::Naive, 32, 2);
-    full_paths_converge("cornell naive", "builtin:cornell", None, 512, frame);
+    full_paths_converge("cornell naive", "builtin:cornell", None, 512, 32, frame);
 }
 
 /// The realtime mode's bounce cap b (denoiser off) is the CPU reference at max_depth b + 1;
