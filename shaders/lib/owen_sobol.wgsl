@@ -46,20 +46,19 @@ fn owen_sobol_seeds(key: u32, dimension: u32) -> vec4<u32> {
         owen_sobol_hash(base + 0x3c6ef372u), owen_sobol_hash(base + 0xdaa66d2bu));
 }
 
-// The second Sobol dimension of point `index`, bits reversed: the columns v_k = v_(k-1) ^
-// (v_(k-1) >> 1) from one half, XORed for the index's set bits.
+// The second Sobol dimension of point `index`, bits reversed. Its columns are the rows of
+// Pascal's triangle mod 2 (v_k = v_(k-1) ^ (v_(k-1) >> 1) from one half), so bit j of the
+// result is the XOR of the index's bits k with binomial(k, j) odd, that is (Lucas) with j's
+// set bits a subset of k's: a superset sum over the five bits of a bit's position, one shift
+// and mask a bit of it, where the Rust reads byte tables.
 fn owen_sobol_second_reversed(index: u32) -> u32 {
-    var point = 0u;
-    var column = 0x80000000u;
-    var bits = index;
-    while bits != 0u {
-        if (bits & 1u) != 0u {
-            point ^= column;
-        }
-        column ^= column >> 1u;
-        bits >>= 1u;
-    }
-    return reverseBits(point);
+    var x = index;
+    x ^= (x >> 1u) & 0x55555555u;
+    x ^= (x >> 2u) & 0x33333333u;
+    x ^= (x >> 4u) & 0x0f0f0f0fu;
+    x ^= (x >> 8u) & 0x00ff00ffu;
+    x ^= (x >> 16u) & 0x0000ffffu;
+    return x;
 }
 
 // The third Sobol dimension of point `index`, bits reversed: v_k = v_(k-1) ^ v_(k-2) ^
