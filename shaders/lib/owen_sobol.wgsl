@@ -46,11 +46,8 @@ fn owen_sobol_seeds(key: u32, dimension: u32) -> vec4<u32> {
         owen_sobol_hash(base + 0x3c6ef372u), owen_sobol_hash(base + 0xdaa66d2bu));
 }
 
-// The second Sobol dimension of point `index`, bits reversed. Its columns are the rows of
-// Pascal's triangle mod 2 (v_k = v_(k-1) ^ (v_(k-1) >> 1) from one half), so bit j of the
-// result is the XOR of the index's bits k with binomial(k, j) odd, that is (Lucas) with j's
-// set bits a subset of k's: a superset sum over the five bits of a bit's position, one shift
-// and mask a bit of it, where the Rust reads byte tables.
+// The second Sobol dimension of point `index`, bits reversed: owen_sobol::sobol_second_reversed,
+// a superset sum over the bits' positions (its columns are Pascal's triangle mod 2).
 fn owen_sobol_second_reversed(index: u32) -> u32 {
     var x = index;
     x ^= (x >> 1u) & 0x55555555u;

@@ -52,11 +52,11 @@ const fn third_dimension_columns() -> [u32; 32] {
     columns
 }
 
-/// A dimension's columns combined a byte of the index at a time, bits reversed: entry [b][v] is
-/// the XOR of the columns of byte b's set bits in v, reversed (the form the scramble reads).
+/// The third dimension's columns combined a byte of the index at a time, bits reversed: entry
+/// [b][v] is the XOR of the columns of byte b's set bits in v, reversed (the form the scramble
+/// reads).
 type ByteTables = [[u32; 256]; 4];
 
-const SECOND_DIMENSION_BYTES: ByteTables = byte_tables(&SECOND_DIMENSION);
 const THIRD_DIMENSION_BYTES: ByteTables = byte_tables(&THIRD_DIMENSION);
 
 const fn byte_tables(columns: &[u32; 32]) -> ByteTables {
@@ -89,9 +89,18 @@ fn by_bytes(tables: &ByteTables, index: u32) -> u32 {
         ^ tables[3][b3 as usize]
 }
 
-/// The second Sobol dimension of point `index` as a 32-bit fraction, bits reversed.
+/// The second Sobol dimension of point `index` as a 32-bit fraction, bits reversed. Its
+/// columns are the rows of Pascal's triangle mod 2, so bit j of the result is the XOR of the
+/// index's bits k with binomial(k, j) odd, that is (Lucas) with j's set bits a subset of k's:
+/// a superset sum over the five bits of a bit's position, one shift and mask each.
 pub fn sobol_second_reversed(index: u32) -> u32 {
-    by_bytes(&SECOND_DIMENSION_BYTES, index)
+    let mut x = index;
+    x ^= (x >> 1) & 0x5555_5555;
+    x ^= (x >> 2) & 0x3333_3333;
+    x ^= (x >> 4) & 0x0f0f_0f0f;
+    x ^= (x >> 8) & 0x00ff_00ff;
+    x ^= (x >> 16) & 0x0000_ffff;
+    x
 }
 
 /// The third Sobol dimension of point `index` as a 32-bit fraction, bits reversed.
@@ -271,20 +280,20 @@ mod tests {
     }
 
     #[test]
-    fn the_byte_tables_combine_the_columns() {
+    fn the_fast_forms_combine_the_columns() {
         let mut rng = crate::rng::Pcg32::new(3, 4);
-        type ByTables = fn(u32) -> u32;
-        let dimensions: [(&[u32; 32], ByTables); 2] = [
+        type Fast = fn(u32) -> u32;
+        let dimensions: [(&[u32; 32], Fast); 2] = [
             (&SECOND_DIMENSION, sobol_second_reversed),
             (&THIRD_DIMENSION, sobol_third_reversed),
         ];
-        for (columns, by_tables) in dimensions {
+        for (columns, fast) in dimensions {
             for _ in 0..1000 {
                 let index = rng.next_u32();
                 let by_bits = (0..32)
                     .filter(|k| index & (1 << k) != 0)
                     .fold(0u32, |point, k| point ^ columns[k]);
-                assert_eq!(by_tables(index), by_bits.reverse_bits(), "index {index:#x}");
+                assert_eq!(fast(index), by_bits.reverse_bits(), "index {index:#x}");
             }
         }
     }
