@@ -29,12 +29,10 @@
 //! | tiny-emitter | 13 | 2.3e-2 / 6.0e-2 | 1.9e-2 / 6.0e-2 |
 //! | degenerate | 30 | 8.3e-4 / 2.3e-3 | 5.0e-4 / 2.2e-3 |
 //!
-//! The reference mode renders 16 frames of 4 paths, not 4 of 16: a frame draws one sub-pixel
-//! point and one first bounce a pixel, which 4 frames stratify poorly. With 4 frames of 16
-//! paths the scale case measured 1.0e-2 against a bound of 8.2e-3 on GL (5.8e-3 against 7.4e-3
-//! on lavapipe), and 16 frames of 4 paths lower it 16 times at the same paths; 64 frames bring
-//! it to 1.3e-4 against 4.1e-4, so the gap was the few frames' noise, not a bias. A gross leak
-//! still fails: light 0.3 in an unlit pixel adds 9 to its relMSE.
+//! The reference mode renders 16 frames of 4 paths: a frame draws one sub-pixel point and one
+//! first bounce a pixel, which 4 frames of 16 paths stratify too poorly (the scale case then
+//! stood above its bound on GL). A gross leak fails: light 0.3 in an unlit pixel adds 9 to its
+//! relMSE.
 
 mod common;
 mod hard_cases_common;

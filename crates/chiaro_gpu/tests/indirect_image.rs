@@ -24,12 +24,9 @@
 //! and 2 (relMSE; bound; interior difference in standard errors, R G B):
 //! - reference mode, Cornell box, 128 frames x 2 paths: 1.4e-3; 3.3e-3; -0.9 -0.7 -1.4.
 //! - reference mode, NormalTangentTest.glb under qwantani_afternoon_puresky_1k.hdr, 128 x 2:
-//!   1.0e-2; 1.6e-2; 1.3 1.0 -1.6. The reference mode's draws are Owen-scrambled Sobol
-//!   points, whose per-pixel noise is low enough that the camera's sub-pixel jitter, one point
-//!   for the whole frame and so an error every pixel shares, shows in the interior sums: at
-//!   32 frames x 8 paths they were -1.8 -3.1 -4.7 standard errors apart (independent numbers:
-//!   the same percentage apart, within 4 standard errors of their larger noise). 128 frames of
-//!   2 paths trace as many paths with a quarter of the jitter's error.
+//!   1.0e-2; 1.6e-2; 1.3 1.0 -1.6. Many frames of few paths: the sub-pixel jitter is one point
+//!   a frame for every pixel, an error the pixels share that per-pixel standard errors miss,
+//!   so it must be small next to the Sobol draws' noise (32 frames x 8 paths: -4.7 in blue).
 //! - naive mode, Cornell box, 32 frames x 32 paths: 3.8e-2; 0.12; 0.8 0.4 0.4.
 //! - realtime mode without the denoiser, Cornell box, 64 frames x 4 paths read back one by
 //!   one: bounces 1 against max_depth 2, 1.1e-3; 5.9e-3; -1.5 -2.2 -1.9; bounces 2 against
