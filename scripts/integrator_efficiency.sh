@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
-# Equal-time error of the CPU reference's integrators (pt, ptlt, bdpt, mlt) against a long
+# Equal-time error of the CPU reference's integrators (pt, ptlt, bdpt, mlt, mmlt) against a long
 # render, and each one's efficiency, 1 / (relMSE x seconds). For every scene: a reference
 # (REF_INTEGRATOR, REF_SECONDS of paths at the throughput a short run measures), then each
 # integrator at RUN_SECONDS of paths, scored with `chiaro compare`. Prints one markdown row per
 # scene and integrator.
 # Usage: bash scripts/integrator_efficiency.sh [SCENE...]
 #   env: CHIARO (binary, default target/release/chiaro), SIZE (64x64), RUN_SECONDS (8),
-#        REF_SECONDS (150), REF_INTEGRATOR (bdpt), OUT (integrator-efficiency)
+#        REF_SECONDS (150), REF_INTEGRATOR (bdpt), OUT (integrator-efficiency),
+#        INTEGRATORS (pt ptlt bdpt mlt mmlt)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 chiaro="${CHIARO:-target/release/chiaro}"
@@ -45,7 +46,7 @@ for scene in "${scenes[@]}"; do
     noise=$(awk '/relMSE between independent halves/ { print $5 }' "$out/$name-reference.log")
     ref_spp=$(awk '/ spp in / { print $3 }' "$out/$name-reference.log")
     echo "| $scene | reference: $ref_integrator, $ref_spp spp, halves' relMSE $noise | | | | |"
-    for integrator in pt ptlt bdpt mlt; do
+    for integrator in ${INTEGRATORS:-pt ptlt bdpt mlt mmlt}; do
         rate=$(throughput "$scene" "$integrator")
         spp=$(spp_for "$rate" "$seconds")
         image="$out/$name-$integrator.exr"

@@ -43,8 +43,9 @@ pub struct BenchArgs {
     /// seeds, for a real GPU at sizes where the CPU would take far longer than the runs.
     #[arg(long, value_enum, default_value_t = ReferenceArg::Cpu)]
     reference: ReferenceArg,
-    /// The CPU reference's integrator (with --reference cpu): pt, ptlt, bdpt or mlt, as
-    /// `chiaro reference --integrator` (for mlt, --reference-spp is mutations per pixel).
+    /// The CPU reference's integrator (with --reference cpu): pt, ptlt, bdpt, mlt or mmlt, as
+    /// `chiaro reference --integrator` (for mlt and mmlt, --reference-spp is mutations per
+    /// pixel).
     #[arg(long, default_value = "pt")]
     reference_integrator: Integrator,
     /// Frames rendered before timing starts.

@@ -175,15 +175,17 @@ enum Command {
         /// plus light tracing: light subpaths joined to the camera, MIS-weighted with pt's
         /// strategies; light out of enclosed emitters); bdpt
         /// (bidirectional: camera and light subpaths joined by every strategy, MIS-weighted;
-        /// finds light camera paths rarely reach; light paths pick lights by power); or mlt
+        /// finds light camera paths rarely reach; light paths pick lights by power); mlt
         /// (Metropolis light transport over bdpt: Markov chains that mutate the bidirectional
         /// samples, spending them where light reaches the image; --spp is mutations per
-        /// pixel).
+        /// pixel); or mmlt (multiplexed Metropolis: each mutation one strategy of one path
+        /// length, MIS-weighted, so far cheaper ones; best on caustics).
         #[arg(long, default_value = "pt")]
         integrator: Integrator,
         /// Where the samples' numbers come from: sobol (Owen-scrambled Sobol points, each
         /// draw of a path stratified over the pixel's samples: randomised quasi-Monte Carlo) or
-        /// independent (independent random numbers: plain Monte Carlo). mlt mutates its own.
+        /// independent (independent random numbers: plain Monte Carlo). mlt and mmlt mutate
+        /// their own.
         #[arg(long, default_value = "sobol")]
         sampler: Sampler,
         #[command(flatten)]

@@ -58,6 +58,9 @@ pub enum Integrator {
     /// Primary-sample-space Metropolis light transport over the bidirectional estimator
     /// ([`crate::mlt`]): `spp` is mutations per pixel.
     Mlt,
+    /// Multiplexed Metropolis light transport ([`crate::mlt`]): each mutation evaluates one
+    /// connection strategy of one path length, weighted by MIS. `spp` is mutations per pixel.
+    Mmlt,
     /// One strategy of the bidirectional estimator alone, unweighted: `s` light and `t` camera
     /// vertices (t >= 1, s + t >= 2), so only paths of exactly s + t - 2 bounces. Each such
     /// image is an unbiased estimate of the same light, which makes it a check of the
@@ -78,6 +81,7 @@ impl std::fmt::Display for Integrator {
             Self::PtLt => f.write_str("ptlt"),
             Self::Bdpt => f.write_str("bdpt"),
             Self::Mlt => f.write_str("mlt"),
+            Self::Mmlt => f.write_str("mmlt"),
             Self::BdptStrategy { s, t } => write!(f, "bdpt({s}, {t})"),
         }
     }
@@ -92,8 +96,9 @@ impl std::str::FromStr for Integrator {
             "bdpt" => Ok(Self::Bdpt),
             "ptlt" => Ok(Self::PtLt),
             "mlt" => Ok(Self::Mlt),
+            "mmlt" => Ok(Self::Mmlt),
             other => Err(format!(
-                "unknown integrator '{other}' (expected pt, ptlt, bdpt or mlt)"
+                "unknown integrator '{other}' (expected pt, ptlt, bdpt, mlt or mmlt)"
             )),
         }
     }

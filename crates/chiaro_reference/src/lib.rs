@@ -9,8 +9,8 @@
 //! halves of the samples are kept, so the reference's own residual noise can be reported.
 //! For light that camera paths rarely reach (through a door ajar, from inside a lamp shade, in
 //! caustics) [`Integrator::PtLt`] adds light tracing to the camera, [`Integrator::Bdpt`] traces
-//! bidirectionally and [`Integrator::Mlt`] runs Metropolis light transport over the
-//! bidirectional tracer.
+//! bidirectionally, and [`Integrator::Mlt`] and [`Integrator::Mmlt`] run Metropolis light
+//! transport over the bidirectional tracer (every strategy per mutation, or multiplexed: one).
 //!
 //! ```
 //! use bevy_ecs::world::World;

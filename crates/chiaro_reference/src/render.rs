@@ -112,7 +112,8 @@ impl TileSampler<'_> {
             Integrator::Bdpt
             | Integrator::PtLt
             | Integrator::BdptStrategy { .. }
-            | Integrator::Mlt => {
+            | Integrator::Mlt
+            | Integrator::Mmlt => {
                 let jitter = rng.next_vec2();
                 bdpt::sample(
                     self.scene,
@@ -224,7 +225,11 @@ pub fn render(
     let work = || match settings.path.integrator {
         Integrator::Mlt => {
             bar.set_message("chains");
-            mlt::render(scene, settings, &bar)
+            mlt::render(scene, settings, mlt::Form::AllStrategies, &bar)
+        }
+        Integrator::Mmlt => {
+            bar.set_message("chains");
+            mlt::render(scene, settings, mlt::Form::Multiplexed, &bar)
         }
         _ => {
             bar.set_message("tiles");

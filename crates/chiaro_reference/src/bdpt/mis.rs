@@ -70,13 +70,14 @@ pub fn weight(
     let pt_minus = (t > 1).then(|| &camera[t - 2]);
 
     let mut cam: Vec<Densities> = camera[..t].iter().map(Densities::from).collect();
-    let mut lig: Vec<Densities> = light[..s].iter().map(Densities::from).collect();
     if t == 1 {
         cam[0] = pt.into();
     }
-    if let (1, Some(q)) = (s, qs) {
-        lig[0] = q.into();
-    }
+    // Next-event estimation's light point stands in for the light subpath's first vertex.
+    let mut lig: Vec<Densities> = match (s, qs) {
+        (1, Some(q)) => vec![q.into()],
+        _ => light[..s].iter().map(Densities::from).collect(),
+    };
     // The joined vertices are not sampled from a delta lobe under this strategy.
     cam[t - 1].delta = false;
     if s > 0 {

@@ -17,6 +17,7 @@
 //! light is not seen). Needs a perspective camera.
 
 mod mis;
+pub mod multiplexed;
 mod vertex;
 mod walk;
 
@@ -253,7 +254,7 @@ pub fn sample(
     };
     let roulette = Roulette(settings.russian_roulette_from);
     let Subpaths { camera, light } = subpaths;
-    camera_subpath(scene, pixel, jitter, rng, depth, &roulette, camera);
+    camera_subpath(scene, pixel, jitter, rng, depth + 1, &roulette, camera);
     rng.start_stream(Stream::Light);
     light_subpath(scene, rng, depth, &roulette, light);
     rng.start_stream(Stream::Connect);

@@ -142,13 +142,13 @@ fn random_walk(
 }
 
 /// The camera subpath through pixel (x, y) at `jitter` within it: the eye, then up to
-/// `max_depth` + 1 surface vertices (or an environment vertex where it escapes).
+/// `max_vertices` surface vertices (the last an environment vertex where it escapes).
 pub fn camera_subpath(
     scene: &RenderScene,
     (x, y): (u32, u32),
     jitter: Vec2,
     rng: &mut impl RandomSource,
-    max_depth: u32,
+    max_vertices: u32,
     roulette: &Roulette,
     path: &mut Vec<Vertex>,
 ) {
@@ -168,7 +168,7 @@ pub fn camera_subpath(
         Vec3::ONE,
         pdf,
         Transport::Radiance,
-        max_depth + 1,
+        max_vertices,
         roulette,
         path,
     );
@@ -190,11 +190,11 @@ fn uniform_cone(axis: Vec3, outer: f32, u: Vec2) -> Vec3 {
 }
 
 /// The light subpath: a light picked by power, a point and direction of its emission, then up
-/// to `max_depth` surface vertices.
+/// to `max_vertices` surface vertices.
 pub fn light_subpath(
     scene: &RenderScene,
     rng: &mut impl RandomSource,
-    max_depth: u32,
+    max_vertices: u32,
     roulette: &Roulette,
     path: &mut Vec<Vertex>,
 ) {
@@ -305,7 +305,7 @@ pub fn light_subpath(
         beta,
         pdf_direction,
         Transport::Importance,
-        max_depth,
+        max_vertices,
         roulette,
         path,
     );

@@ -1,9 +1,13 @@
-//! Primary-sample-space Metropolis light transport over the bidirectional tracer (Kelemen,
-//! Szirmay-Kalos, Antal and Csonka 2002; Veach 1997, chapter 11). A sample is a point of the
-//! unit hypercube ([`primary_sample`]); the bidirectional tracer turns it into a film position
-//! and every strategy's contribution, to that pixel and, by light tracing, to others. The
-//! scalar I(u) is the sum of the contributions' luminances, each weighted by its pixel's
-//! weight from a pilot image ([`pixel_weights`]). Markov chains walk the hypercube
+//! Metropolis light transport in primary sample space over the bidirectional tracer (Kelemen,
+//! Szirmay-Kalos, Antal and Csonka 2002; Veach 1997, chapter 11), in two forms: every
+//! connection strategy of a bidirectional sample at each point, or, multiplexed (Hachisuka,
+//! Kaplanyan and Dachsbacher 2014), one strategy of one path length at each point, weighted by
+//! MIS, which costs a few rays where the other joins every pair of vertices.
+//!
+//! A sample is a point of the unit hypercube ([`primary_sample`]); the tracer turns it into a
+//! film position and contributions, to that pixel and, by light tracing, to others
+//! ([`evaluate`]). The scalar I(u) is the sum of the contributions' luminances, each weighted
+//! by its pixel's weight from a pilot image ([`pilot`]). Markov chains walk the hypercube
 //! with the density I / b, proposing small and large steps and accepting them with
 //! probability min(1, I(new) / I(old)); both the proposal and the current state are recorded
 //! at every step, weighted by the acceptance probability and its complement (Veach's expected
@@ -17,19 +21,21 @@
 //! image and odd chains the other; the two share b, so their difference does not see b's
 //! error.
 
+mod evaluate;
+mod lengths;
+mod pilot;
 mod primary_sample;
 
-use chiaro_shading::color::luminance;
 use chiaro_shading::distribution::Distribution1D;
 use chiaro_shading::rng::Pcg32;
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 use indicatif::ProgressBar;
 use rayon::prelude::*;
 
-use crate::bdpt::{self, Splat, Strategies, Subpaths};
-use crate::random::{RandomSource, Stream};
 use crate::render::{RenderSettings, Rendered};
 use crate::scene::RenderScene;
+use evaluate::{Contributions, Paths, Workspace, evaluate};
+use lengths::{emitters_seen, length_distribution, probe_size};
 use primary_sample::PrimarySamples;
 
 /// Markov chains a render runs (fewer when there are fewer mutations than this many times
@@ -51,71 +57,16 @@ pub const SMALL_STEP_SIGMA: f32 = 0.01;
 /// Stream of the bootstrap's random numbers (the seed's other streams are the chains').
 const BOOTSTRAP_STREAM: u64 = 1 << 40;
 
-/// Stream of the pilot image's random numbers.
-const PILOT_STREAM: u64 = 1 << 48;
+/// Stream of the multiplexed form's probe of path lengths.
+const LENGTH_PROBE_STREAM: u64 = 1 << 44;
 
-/// One evaluation of the bidirectional tracer at a point of primary sample space.
-#[derive(Default)]
-struct Contributions {
-    /// (pixel index, value): the camera subpath's pixel first, then light tracing's splats.
-    values: Vec<(u32, Vec3)>,
-    /// Sum of the values' luminances: the density the chains follow.
-    importance: f32,
-    /// True when a value was not finite (the sample then counts as zero).
-    non_finite: bool,
-}
-
-/// Reusable storage of one chain.
-#[derive(Default)]
-struct Workspace {
-    subpaths: Subpaths,
-    splats: Vec<Splat>,
-}
-
-/// Traces the point `samples` stands at into `out`; each value's luminance counts in the
-/// importance times its pixel's entry of `weights` (1 where it is empty).
-fn evaluate(
-    scene: &RenderScene,
-    settings: &RenderSettings,
-    weights: &[f32],
-    samples: &mut PrimarySamples,
-    work: &mut Workspace,
-    out: &mut Contributions,
-) {
-    let (width, height) = (settings.width, settings.height);
-    samples.start_stream(Stream::Camera);
-    let film = samples.next_vec2() * Vec2::new(width as f32, height as f32);
-    let x = (film.x as u32).min(width - 1);
-    let y = (film.y as u32).min(height - 1);
-    let jitter = (film - Vec2::new(x as f32, y as f32)).clamp(Vec2::ZERO, Vec2::splat(1.0));
-    work.splats.clear();
-    let l = bdpt::sample(
-        scene,
-        (x, y),
-        jitter,
-        samples,
-        &settings.path,
-        Strategies::All,
-        &mut work.subpaths,
-        &mut work.splats,
-    );
-    out.values.clear();
-    if l != Vec3::ZERO {
-        out.values.push((y * width + x, l));
-    }
-    for splat in &work.splats {
-        out.values
-            .push((splat.pixel(width, height) as u32, splat.value));
-    }
-    out.non_finite = out.values.iter().any(|(_, v)| !v.is_finite());
-    out.importance = if out.non_finite {
-        0.0
-    } else {
-        out.values
-            .iter()
-            .map(|(pixel, v)| luminance(*v).max(0.0) * weights.get(*pixel as usize).unwrap_or(&1.0))
-            .sum()
-    };
+/// Which form of Metropolis sampling renders.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Form {
+    /// Every connection strategy of a bidirectional sample at each point.
+    AllStrategies,
+    /// One strategy of one path length at each point.
+    Multiplexed,
 }
 
 /// The sampler whose first evaluation is bootstrap sample `index`.
@@ -146,10 +97,11 @@ fn record(film: &mut [Vec3], c: &Contributions, weight: f32) {
     }
 }
 
-/// Runs chain `chain` for `mutations` steps from bootstrap sample `start`.
+/// Runs chain `chain` over `paths` for `mutations` steps from bootstrap sample `start`.
 fn run_chain(
     scene: &RenderScene,
     settings: &RenderSettings,
+    paths: Paths,
     weights: &[f32],
     chain: u64,
     start: u64,
@@ -163,6 +115,7 @@ fn run_chain(
     evaluate(
         scene,
         settings,
+        paths,
         weights,
         &mut samples,
         &mut work,
@@ -177,6 +130,7 @@ fn run_chain(
         evaluate(
             scene,
             settings,
+            paths,
             weights,
             &mut samples,
             &mut work,
@@ -208,83 +162,33 @@ fn run_chain(
     }
 }
 
-/// Side of the square box that blurs the pilot image.
-const PILOT_BLUR: i64 = 5;
-
-/// Least brightness a pixel's weight assumes, as a fraction of the pilot image's mean.
-const PILOT_FLOOR: f32 = 0.05;
-
-/// Each pixel's weight in the importance: 1 / the square root of its brightness, as a pilot
-/// image of `count` uniform samples (on streams of their own) blurred by a box shows it, and
-/// at most that of 1/20 of the mean brightness. The chains then spend more of their samples
-/// where the image is dark than the luminance alone would (Hoberock and Hart 2010, "Arbitrary
-/// Importance Functions for Metropolis Light Transport"); any positive weights leave the
-/// estimate unbiased. The square root was measured against the full inverse at 64x64: the
-/// inverse followed the pilot's fireflies on builtin:door (relMSE 0.36 against 0.14).
-fn pixel_weights(scene: &RenderScene, settings: &RenderSettings, count: u64) -> Vec<f32> {
-    let (width, height) = (settings.width as i64, settings.height as i64);
-    let pixels = (width * height) as usize;
-    let chunk = count.div_ceil(64);
-    let films: Vec<Vec<f32>> = (0..count.div_ceil(chunk))
-        .into_par_iter()
-        .map(|c| {
-            let mut film = vec![0.0f32; pixels];
-            let (mut work, mut out) = (Workspace::default(), Contributions::default());
-            for index in c * chunk..((c + 1) * chunk).min(count) {
-                let mut samples = bootstrap_samples(settings.seed, PILOT_STREAM + index);
-                evaluate(scene, settings, &[], &mut samples, &mut work, &mut out);
-                if !out.non_finite {
-                    for (pixel, value) in &out.values {
-                        film[*pixel as usize] += luminance(*value).max(0.0);
-                    }
-                }
-            }
-            film
-        })
-        .collect();
-    let mut pilot = vec![0.0f32; pixels];
-    for film in &films {
-        for (total, value) in pilot.iter_mut().zip(film) {
-            *total += value;
-        }
-    }
-    let mut blurred = vec![0.0f32; pixels];
-    let r = PILOT_BLUR / 2;
-    for y in 0..height {
-        for x in 0..width {
-            let (mut sum, mut n) = (0.0, 0.0);
-            for yy in (y - r).max(0)..=(y + r).min(height - 1) {
-                for xx in (x - r).max(0)..=(x + r).min(width - 1) {
-                    sum += pilot[(yy * width + xx) as usize];
-                    n += 1.0;
-                }
-            }
-            blurred[(y * width + x) as usize] = sum / n;
-        }
-    }
-    let mean = blurred.iter().sum::<f32>() / pixels as f32;
-    if mean <= 0.0 || !mean.is_finite() {
-        return Vec::new();
-    }
-    blurred
-        .iter()
-        .map(|b| 1.0 / b.max(PILOT_FLOOR * mean).sqrt())
-        .collect()
+/// What the chains of a render return: the two halves' films (in the image's units), the
+/// mutations each half made, the samples that were not finite and the paths traced.
+struct ChainsOutput {
+    films: [Vec<Vec3>; 2],
+    counts: [u64; 2],
+    non_finite: u64,
+    traced: u64,
 }
 
-/// Renders `settings.spp` mutations per pixel by Metropolis sampling; `bar` counts chains.
-/// Runs on the current rayon pool.
-pub fn render(scene: &RenderScene, settings: &RenderSettings, bar: &ProgressBar) -> Rendered {
+/// Draws `bootstrap` uniform samples of `paths`, then runs the chains: `settings.spp`
+/// mutations per pixel in all.
+fn run_chains(
+    scene: &RenderScene,
+    settings: &RenderSettings,
+    paths: Paths,
+    weights: &[f32],
+    bootstrap: u64,
+    bar: &ProgressBar,
+) -> ChainsOutput {
     let pixels = settings.width as u64 * settings.height as u64;
-    let bootstrap = (pixels * BOOTSTRAP_PER_PIXEL).max(MIN_BOOTSTRAP);
-    let weights = pixel_weights(scene, settings, bootstrap);
     let importance: Vec<(f32, bool)> = (0..bootstrap)
         .into_par_iter()
         .map_init(
             || (Workspace::default(), Contributions::default()),
             |(work, out), index| {
                 let mut samples = bootstrap_samples(settings.seed, index);
-                evaluate(scene, settings, &weights, &mut samples, work, out);
+                evaluate(scene, settings, paths, weights, &mut samples, work, out);
                 (out.importance, out.non_finite)
             },
         )
@@ -316,7 +220,8 @@ pub fn render(scene: &RenderScene, settings: &RenderSettings, bar: &ProgressBar)
                     let out = run_chain(
                         scene,
                         settings,
-                        &weights,
+                        paths,
+                        weights,
                         chain,
                         starts[chain as usize],
                         steps,
@@ -345,6 +250,79 @@ pub fn render(scene: &RenderScene, settings: &RenderSettings, bar: &ProgressBar)
             *value *= scale;
         }
     }
-    let paths = 2 * bootstrap + counts[0] + counts[1];
-    Rendered::from_halves(films, counts, non_finite, paths)
+    ChainsOutput {
+        films,
+        counts,
+        non_finite,
+        traced: bootstrap + counts[0] + counts[1],
+    }
+}
+
+/// Renders `settings.spp` mutations per pixel by Metropolis sampling in `form`; `bar` counts
+/// chains. Runs on the current rayon pool. The multiplexed form renders the emitters seen
+/// directly (paths of no bounce) apart, by plain Monte Carlo, and its chains walk the longer
+/// paths: a small light seen in a few pixels is then no island that only large steps reach.
+pub fn render(
+    scene: &RenderScene,
+    settings: &RenderSettings,
+    form: Form,
+    bar: &ProgressBar,
+) -> Rendered {
+    let pixels = settings.width as u64 * settings.height as u64;
+    let bootstrap = (pixels * BOOTSTRAP_PER_PIXEL).max(MIN_BOOTSTRAP);
+    let weights = pilot::pixel_weights(scene, settings, bootstrap);
+    let max_bounces = if settings.path.direct_only {
+        1
+    } else {
+        settings.path.max_depth
+    };
+    let mut out = match form {
+        Form::AllStrategies => run_chains(
+            scene,
+            settings,
+            Paths::AllStrategies,
+            &weights,
+            bootstrap,
+            bar,
+        ),
+        Form::Multiplexed => {
+            let probe = |index| bootstrap_samples(settings.seed, LENGTH_PROBE_STREAM + index);
+            let (lengths, non_finite) =
+                length_distribution(scene, settings, &weights, max_bounces, probe);
+            let mut out = match &lengths {
+                Some(lengths) => run_chains(
+                    scene,
+                    settings,
+                    Paths::AnyLength(lengths),
+                    &weights,
+                    bootstrap,
+                    bar,
+                ),
+                None => ChainsOutput {
+                    films: [
+                        vec![Vec3::ZERO; pixels as usize],
+                        vec![Vec3::ZERO; pixels as usize],
+                    ],
+                    counts: [0, 0],
+                    non_finite: 0,
+                    traced: 0,
+                },
+            };
+            let (seen, seen_non_finite, seen_rays) = emitters_seen(scene, settings);
+            for (film, seen) in out.films.iter_mut().zip(&seen) {
+                for (total, value) in film.iter_mut().zip(seen) {
+                    *total += *value;
+                }
+            }
+            out.non_finite += non_finite + seen_non_finite;
+            out.traced += probe_size(max_bounces) + seen_rays;
+            // Without chains the halves still weigh alike.
+            if out.counts == [0, 0] {
+                out.counts = [1, 1];
+            }
+            out
+        }
+    };
+    out.traced += bootstrap;
+    Rendered::from_halves(out.films, out.counts, out.non_finite, out.traced)
 }
