@@ -108,7 +108,7 @@ fn integrators_are_named_and_belong_to_the_cpu_reference() {
     refused(
         &["reference", "builtin:cornell", "--integrator", "vcm"],
         "--integrator",
-        "expected pt, ptlt, bdpt or mlt",
+        "expected pt, ptlt, bdpt, mlt or mmlt",
     );
     let out = chiaro(&[
         "bench",
