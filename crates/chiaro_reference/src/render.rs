@@ -201,7 +201,7 @@ pub fn render(
     }
     if settings.path.integrator != Integrator::Pt && !scene.camera.is_perspective() {
         return Err(ReferenceError::Settings(
-            "bdpt and mlt need a perspective camera: light paths cannot reach an orthographic one"
+            "ptlt, bdpt, mlt and mmlt need a perspective camera: light paths cannot reach an orthographic one"
                 .to_string(),
         ));
     }
@@ -266,14 +266,19 @@ pub(crate) struct Rendered {
 }
 
 impl Rendered {
-    /// The image from its halves, each the mean of `counts` samples.
+    /// The image from its halves, each the mean of `counts` samples (two halves of no samples
+    /// weigh alike).
     pub fn from_halves(
         halves: [Vec<Vec3>; 2],
         counts: [u64; 2],
         non_finite_samples: u64,
         paths: u64,
     ) -> Self {
-        let weights = counts.map(|c| c as f32);
+        let weights = if counts == [0, 0] {
+            [1.0; 2]
+        } else {
+            counts.map(|c| c as f32)
+        };
         let total = (weights[0] + weights[1]).max(1.0);
         let image = halves[0]
             .iter()
@@ -291,7 +296,11 @@ impl Rendered {
 
 /// Renders the image tile by tile, a path (or a bidirectional sample) at a time per pixel;
 /// `bar` counts tiles.
-fn render_tiles(scene: &RenderScene, settings: &RenderSettings, bar: &ProgressBar) -> Rendered {
+pub(crate) fn render_tiles(
+    scene: &RenderScene,
+    settings: &RenderSettings,
+    bar: &ProgressBar,
+) -> Rendered {
     let tiles: Vec<(u32, u32)> = (0..settings.height.div_ceil(TILE))
         .flat_map(|ty| (0..settings.width.div_ceil(TILE)).map(move |tx| (tx, ty)))
         .collect();

@@ -1,17 +1,16 @@
 //! The multiplexed form's path lengths: the distribution p(k) its chains draw lengths of one
 //! bounce or more from, which follows each length's share of the image as a short probe
 //! measures it (any p that is positive wherever light is leaves the estimate unbiased), and the
-//! emitters seen directly (no bounce), rendered apart by plain Monte Carlo.
+//! emitters seen directly (no bounce), rendered apart by the path tracer.
 
 use chiaro_shading::distribution::Distribution1D;
-use chiaro_shading::rng::Pcg32;
-use glam::Vec3;
+use indicatif::ProgressBar;
 use rayon::prelude::*;
 
 use super::evaluate::{Contributions, Paths, Workspace, evaluate};
 use super::primary_sample::PrimarySamples;
-use crate::bdpt::{self, Subpaths};
-use crate::render::RenderSettings;
+use crate::integrator::{Integrator, PathSettings};
+use crate::render::{RenderSettings, Rendered, render_tiles};
 use crate::scene::RenderScene;
 
 /// Fewest samples the probe of [`length_distribution`] draws of each path length.
@@ -52,11 +51,11 @@ pub fn length_distribution(
     if lengths == 0 {
         return (None, 0);
     }
-    let mut first = 0;
+    // (length, its first sample's number)
     let probes: Vec<(u64, u64)> = (1..=lengths)
-        .map(|k| {
-            first += probe_samples(k);
-            (k, first - probe_samples(k))
+        .scan(0, |first, k| {
+            *first += probe_samples(k);
+            Some((k, *first - probe_samples(k)))
         })
         .collect();
     let drawn: Vec<(f32, u64)> = probes
@@ -91,59 +90,19 @@ pub fn length_distribution(
     (Distribution1D::new(&weights), non_finite)
 }
 
-/// Stream of [`emitters_seen`]'s numbers.
-const EMITTERS_SEEN_STREAM: u64 = 1 << 52;
-
-/// The light of emitters and the sky seen directly (paths of no bounce), by plain Monte Carlo:
-/// a quarter of `settings.spp` samples a pixel, at least 2 (a ray each, where a mutation traces
-/// several), alternately into two independent halves, each an estimate of the image on its
-/// own. Returns the halves, the samples that were not finite and the samples drawn.
-pub fn emitters_seen(scene: &RenderScene, settings: &RenderSettings) -> ([Vec<Vec3>; 2], u64, u64) {
-    let width = settings.width;
-    let spp = settings.spp.div_ceil(4).max(2);
-    let rows: Vec<(Vec<[Vec3; 2]>, u64)> = (0..settings.height)
-        .into_par_iter()
-        .map(|y| {
-            let (mut subpaths, mut splats) = (Subpaths::default(), Vec::new());
-            let mut non_finite = 0;
-            let row = (0..width)
-                .map(|x| {
-                    let pixel = (y * width + x) as u64;
-                    let mut rng = Pcg32::new(settings.seed, EMITTERS_SEEN_STREAM + pixel);
-                    let mut halves = [Vec3::ZERO; 2];
-                    for i in 0..spp {
-                        let jitter = rng.next_vec2();
-                        let l = bdpt::multiplexed::sample(
-                            scene,
-                            (x, y),
-                            jitter,
-                            &mut rng,
-                            0,
-                            &mut subpaths,
-                            &mut splats,
-                        );
-                        if l.is_finite() {
-                            halves[(i % 2) as usize] += l;
-                        } else {
-                            non_finite += 1;
-                        }
-                    }
-                    let per_half = [spp.div_ceil(2), spp / 2].map(|n| n as f32);
-                    [halves[0] / per_half[0], halves[1] / per_half[1]]
-                })
-                .collect();
-            (row, non_finite)
-        })
-        .collect();
-    let mut halves = [Vec::new(), Vec::new()];
-    let mut non_finite = 0;
-    for (row, bad) in rows {
-        for [a, b] in row {
-            halves[0].push(a);
-            halves[1].push(b);
-        }
-        non_finite += bad;
-    }
-    let drawn = spp as u64 * settings.width as u64 * settings.height as u64;
-    (halves, non_finite, drawn)
+/// The light of emitters and the sky seen directly (paths of no bounce): the path tracer at
+/// depth 0, a quarter of `settings.spp` samples a pixel (at least 2; a ray each, where a
+/// mutation traces several), in its two halves.
+pub fn emitters_seen(scene: &RenderScene, settings: &RenderSettings) -> Rendered {
+    let direct_view = RenderSettings {
+        spp: settings.spp.div_ceil(4).max(2),
+        path: PathSettings {
+            max_depth: 0,
+            direct_only: false,
+            integrator: Integrator::Pt,
+            ..settings.path
+        },
+        ..*settings
+    };
+    render_tiles(scene, &direct_view, &ProgressBar::hidden())
 }

@@ -260,7 +260,7 @@ fn run_chains(
 
 /// Renders `settings.spp` mutations per pixel by Metropolis sampling in `form`; `bar` counts
 /// chains. Runs on the current rayon pool. The multiplexed form renders the emitters seen
-/// directly (paths of no bounce) apart, by plain Monte Carlo, and its chains walk the longer
+/// directly (paths of no bounce) apart, with the path tracer, and its chains walk the longer
 /// paths: a small light seen in a few pixels is then no island that only large steps reach.
 pub fn render(
     scene: &RenderScene,
@@ -286,40 +286,32 @@ pub fn render(
             bar,
         ),
         Form::Multiplexed => {
+            let seen = emitters_seen(scene, settings);
             let probe = |index| bootstrap_samples(settings.seed, LENGTH_PROBE_STREAM + index);
             let (lengths, non_finite) =
                 length_distribution(scene, settings, &weights, max_bounces, probe);
-            let mut out = match &lengths {
-                Some(lengths) => run_chains(
-                    scene,
-                    settings,
-                    Paths::AnyLength(lengths),
-                    &weights,
-                    bootstrap,
-                    bar,
-                ),
-                None => ChainsOutput {
-                    films: [
-                        vec![Vec3::ZERO; pixels as usize],
-                        vec![Vec3::ZERO; pixels as usize],
-                    ],
-                    counts: [0, 0],
-                    non_finite: 0,
-                    traced: 0,
-                },
+            // None at depth 0: the emitters seen are the whole image.
+            let Some(lengths) = lengths else {
+                return Rendered {
+                    paths: bootstrap + seen.paths,
+                    ..seen
+                };
             };
-            let (seen, seen_non_finite, seen_rays) = emitters_seen(scene, settings);
-            for (film, seen) in out.films.iter_mut().zip(&seen) {
+            let mut out = run_chains(
+                scene,
+                settings,
+                Paths::AnyLength(&lengths),
+                &weights,
+                bootstrap,
+                bar,
+            );
+            for (film, seen) in out.films.iter_mut().zip(&seen.halves) {
                 for (total, value) in film.iter_mut().zip(seen) {
                     *total += *value;
                 }
             }
-            out.non_finite += non_finite + seen_non_finite;
-            out.traced += probe_size(max_bounces) + seen_rays;
-            // Without chains the halves still weigh alike.
-            if out.counts == [0, 0] {
-                out.counts = [1, 1];
-            }
+            out.non_finite += non_finite + seen.non_finite_samples;
+            out.traced += probe_size(max_bounces) + seen.paths;
             out
         }
     };
