@@ -4,8 +4,16 @@
 // keeps it as a sample (lib/gi_sample.wgsl): the point y its first bounce reached, the light
 // y reflects back along it (next-event estimation at y and what lies beyond, with its own
 // throughput from y, so Russian roulette there weighs the path after y alone), and the
-// sample's area-measure weight. restir_gi_spatial.wgsl resamples these and writes the
-// indirect light.
+// sample's area-measure weight. With temporal reuse (gi_history_cap > 0), last frame's
+// reservoir at the point the motion vector gives, where its surface is similar (lib/
+// reservoir.wgsl's test), is merged with it (Ouyang et al., algorithm 3): both enter by the
+// target here times W times M, the history's M capped at gi_history_cap, and the result is
+// normalised by the sum of the counts (1/M). Last frame's sample is not tested for visibility
+// here (as in the paper: the spatial pass tests what it reuses from elsewhere); its light is
+// what y reflected toward last frame's point, the same diffuse assumption as spatial reuse.
+// The reservoir goes to reservoirs_out; restir_gi_spatial.wgsl resamples it with the
+// neighbours' and writes the indirect light, and the frame keeps a copy as the next frame's
+// history.
 //
 // A path whose first direction is a delta lobe's (a mirror, smooth glass) has no density to
 // reuse: it is kept as its own contribution. Test hook: with `poison` nonzero, the pixel at the
@@ -22,6 +30,7 @@
 #import lib/first_bounce.wgsl
 #import lib/path.wgsl
 #import lib/gi_sample.wgsl
+#import lib/reservoir.wgsl
 #import lib/lane_tiles.wgsl
 
 // lib/next_event.wgsl's hook.
@@ -30,9 +39,15 @@ fn light_tree_sampling() -> bool {
 }
 
 @group(1) @binding(4) var<storage, read> params: IndirectParams;
-@group(1) @binding(5) var points_out: texture_storage_2d<rgba32uint, write>;
-@group(1) @binding(6) var radiance_out: texture_storage_2d<rgba32uint, write>;
-@group(1) @binding(7) var first_bounce: texture_2d<u32>;
+@group(1) @binding(5) var reservoirs_out: texture_storage_2d<rgba32uint, write>;
+// Last frame's reservoirs, and the direct pass's BRDF-ray hits (read-only storage: the scene
+// and the G-buffer leave one sampled texture, the motion vectors').
+@group(1) @binding(6) var history: texture_storage_2d<rgba32uint, read>;
+@group(1) @binding(7) var first_bounce: texture_storage_2d<rgba32uint, read>;
+@group(1) @binding(8) var gbuffer_motion: texture_2d<u32>;
+
+// Keeps the temporal merge's numbers apart from the path's.
+const RESTIR_GI_TEMPORAL_SEED: vec2<u32> = vec2<u32>(0xd1b54a32u, 0xd192ed03u);
 
 // The sample of one path from x0 whose first direction is `first`'s.
 fn gi_path(x0: Shading, rng: ptr<function, Rng>, first: FirstBounce) -> GiSample {
@@ -75,30 +90,93 @@ fn gi_path(x0: Shading, rng: ptr<function, Rng>, first: FirstBounce) -> GiSample
     return GiSample(y.shading.position, y.shading.geometric_normal, radiance, weight);
 }
 
+fn store_reservoir(pixel: vec2<i32>, r: GiReservoir) {
+    textureStore(reservoirs_out, gi_reservoir_texel(pixel, 0), gi_sample_pack_point(r.sample));
+    textureStore(reservoirs_out, gi_reservoir_texel(pixel, 1), gi_sample_pack_radiance(r.sample));
+    textureStore(reservoirs_out, gi_reservoir_texel(pixel, 2), gi_reservoir_pack_count(r));
+}
+
+// Last frame's reservoir at the point `pixel` moved from, where temporal reuse is on, its
+// surface is similar to (depth, normal) and its sample reusable, its count capped; a count of
+// 0 where not.
+fn history_reservoir(pixel: vec2<i32>, depth: f32, normal: vec3<f32>, size: vec2<u32>) -> GiReservoir {
+    var none = GiReservoir(gi_sample_none(), 0u, reservoir_no_surface());
+    if params.gi_history_cap == 0u {
+        return none;
+    }
+    let motion = motion_unpack(textureLoad(gbuffer_motion, pixel, 0).x);
+    if !all(abs(motion) < vec2<f32>(1.0e6)) {
+        return none;
+    }
+    let previous = vec2<i32>(floor(vec2<f32>(pixel) + 0.5 + motion));
+    if any(previous < vec2<i32>(0)) || any(previous >= vec2<i32>(size)) {
+        return none;
+    }
+    var r = gi_reservoir_unpack(textureLoad(history, gi_reservoir_texel(previous, 0)),
+        textureLoad(history, gi_reservoir_texel(previous, 1)),
+        textureLoad(history, gi_reservoir_texel(previous, 2)));
+    if !gi_sample_reusable(r.sample) || !reservoir_surface_similar(r.surface, depth, normal) {
+        return none;
+    }
+    r.count = min(r.count, params.gi_history_cap);
+    return r;
+}
+
+// The pixel's sample merged with `history` at x0 (Ouyang et al., algorithm 3).
+fn merged(x0: Shading, own: GiSample, history: GiReservoir, rand: f32) -> GiReservoir {
+    var kept = own;
+    var kept_target = luminance(gi_value(x0, own));
+    var weight_sum = kept_target * own.weight;
+    var count = 1u;
+    if history.count > 0u {
+        count += history.count;
+        let here = luminance(gi_value(x0, history.sample));
+        let weight = here * history.sample.weight * f32(history.count);
+        if weight > 0.0 && f32_is_finite(weight) {
+            weight_sum += weight;
+            if rand * weight_sum < weight {
+                kept = history.sample;
+                kept_target = here;
+            }
+        }
+    }
+    let w = weight_sum / (f32(count) * kept_target);
+    kept.weight = select(0.0, w, kept_target > 0.0 && weight_sum > 0.0 && f32_is_finite(w));
+    return GiReservoir(kept, count, vec4<u32>(0u));
+}
+
 @compute @workgroup_size(8, 8)
 fn main(@builtin(workgroup_id) workgroup: vec3<u32>, @builtin(local_invocation_index) local_index: u32) {
     let id = lane_tile_pixel(workgroup, local_index);
-    let size = textureDimensions(points_out);
+    let size = textureDimensions(first_bounce);
     if id.x >= size.x || id.y >= size.y {
         return;
     }
     let pixel = vec2<i32>(id.xy);
     let texels = gbuffer_load(pixel);
-    var sample = gi_sample_none();
+    var r = GiReservoir(gi_sample_none(), 1u, reservoir_no_surface());
     if gbuffer_covered(texels) {
         let g = gbuffer_unpack(texels);
         if g.shades {
             let x0 = gbuffer_shading(g, gbuffer_triangle_at(pixel), camera);
-            let start = path_start(id.y * size.x + id.x, textureLoad(first_bounce, pixel, 0));
+            let index = id.y * size.x + id.x;
+            let start = path_start(index, textureLoad(first_bounce, pixel));
             var rng = start.rng;
-            sample = gi_path(x0, &rng, start.first);
+            r.sample = gi_path(x0, &rng, start.first);
+            let depth = reservoir_depth(camera, g.position);
+            if gi_sample_reusable(r.sample) {
+                let history = history_reservoir(pixel, depth, g.shading_normal, size);
+                let seed = vec2<u32>(params.seed_lo, params.seed_hi) ^ RESTIR_GI_TEMPORAL_SEED;
+                var merge_rng = pcg32_new(seed, vec2<u32>(index, params.frame));
+                r = merged(x0, r.sample, history, pcg32_next_f32(&merge_rng));
+            }
+            r.surface = reservoir_surface_pack(depth, g.shading_normal);
         }
     }
     let centre = size / 2u;
     if params.poison != 0u && id.y == centre.y && (id.x == centre.x || id.x == centre.x + 1u) {
         let poison = select(bitcast<f32>(0x7fc00000u), f32_infinity(), id.x != centre.x);
-        sample = GiSample(vec3<f32>(poison), vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(poison), poison);
+        r.sample = GiSample(vec3<f32>(poison), vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(poison), poison);
     }
-    textureStore(points_out, pixel, gi_sample_pack_point(sample));
-    textureStore(radiance_out, pixel, gi_sample_pack_radiance(sample));
+    store_reservoir(pixel, r);
 }

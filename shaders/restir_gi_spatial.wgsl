@@ -1,11 +1,12 @@
-// Resampled indirect light, second pass (ReSTIR GI: Ouyang et al., HPG 2021, algorithm 4 with
-// spatial reuse only): each pixel resamples its own path's sample (restir_gi_initial.wgsl)
-// and those of `indirect_spatial_samples` neighbours drawn uniformly in a disc of
-// `spatial_radius` pixels whose surfaces are similar (lib/reservoir.wgsl's test), by the
-// target f cos L cos_y / d^2 in the area measure at the samples' points (lib/gi_sample.wgsl),
-// normalised by the count (1/M). It shades the survivor and writes the frame's indirect light.
+// Resampled indirect light, second pass (ReSTIR GI: Ouyang et al., HPG 2021, algorithm 4):
+// each pixel resamples its own reservoir (restir_gi_initial.wgsl: its path's sample, merged
+// with last frame's where temporal reuse is on) and those of `indirect_spatial_samples`
+// neighbours drawn uniformly in a disc of `spatial_radius` pixels whose surfaces are similar
+// (lib/reservoir.wgsl's test), each by the target f cos L cos_y / d^2 in the area measure at
+// the samples' points (lib/gi_sample.wgsl) times its W times its M, normalised by the sum of
+// the counts (1/M). It shades the survivor and writes the frame's indirect light.
 // A neighbour's survivor is tested by one visibility ray; where the pixel cannot see it, the
-// pixel shades its own path instead.
+// pixel shades its own reservoir's sample instead.
 //
 // Bias: a neighbour's sample assumes its point reflects the same light toward this pixel (a
 // diffuse point); the target has no visibility, so the weight of a sample the pixel cannot
@@ -35,8 +36,7 @@
 
 @group(1) @binding(4) var<storage, read> params: RestirParams;
 @group(1) @binding(5) var indirect_out: texture_storage_2d<rgba32float, write>;
-@group(1) @binding(6) var gi_points: texture_storage_2d<rgba32uint, read>;
-@group(1) @binding(7) var gi_radiance: texture_storage_2d<rgba32uint, read>;
+@group(1) @binding(6) var reservoirs: texture_storage_2d<rgba32uint, read>;
 
 // Most neighbours (FrameSettings validation keeps indirect_spatial_samples within it).
 const GI_MAX_NEIGHBOURS: u32 = 8u;
@@ -50,8 +50,10 @@ fn light_tree_sampling() -> bool {
     return params.light_sampling == LIGHT_SAMPLING_TREE;
 }
 
-fn gi_sample_at(pixel: vec2<i32>) -> GiSample {
-    return gi_sample_unpack(textureLoad(gi_points, pixel), textureLoad(gi_radiance, pixel));
+fn reservoir_at(pixel: vec2<i32>) -> GiReservoir {
+    return gi_reservoir_unpack(textureLoad(reservoirs, gi_reservoir_texel(pixel, 0)),
+        textureLoad(reservoirs, gi_reservoir_texel(pixel, 1)),
+        textureLoad(reservoirs, gi_reservoir_texel(pixel, 2)));
 }
 
 // Whether a sample drawn at the point `there` may be reused at s: the ratio of the
@@ -76,7 +78,8 @@ fn main(@builtin(workgroup_id) workgroup: vec3<u32>, @builtin(local_invocation_i
     let pixel = vec2<i32>(id.xy);
     let texels = gbuffer_load(pixel);
     let g = gbuffer_unpack(texels);
-    let own = gi_sample_at(pixel);
+    let own_reservoir = reservoir_at(pixel);
+    let own = own_reservoir.sample;
     var radiance = vec3<f32>(0.0);
     if !gbuffer_covered(texels) || !g.shades {
         // Nothing to shade.
@@ -91,8 +94,8 @@ fn main(@builtin(workgroup_id) workgroup: vec3<u32>, @builtin(local_invocation_i
         var kept = own;
         var kept_own = true;
         var kept_target = luminance(gi_value(s, own));
-        var weight_sum = kept_target * own.weight;
-        var count = 1u;
+        var count = max(own_reservoir.count, 1u);
+        var weight_sum = kept_target * own.weight * f32(count);
         for (var i = 0u; i < min(params.indirect_spatial_samples, GI_MAX_NEIGHBOURS); i++) {
             let n = reservoir_neighbour(pixel, size, pcg32_next_vec2(&rng), params.spatial_radius,
                 depth, g.shading_normal);
@@ -100,16 +103,17 @@ fn main(@builtin(workgroup_id) workgroup: vec3<u32>, @builtin(local_invocation_i
             if !n.found {
                 continue;
             }
-            let other = gi_sample_at(n.pixel);
+            let neighbour = reservoir_at(n.pixel);
+            let other = neighbour.sample;
             if !gi_sample_reusable(other) {
                 continue;
             }
             if !gi_jacobian_bounded(s, n.position, other) {
                 continue;
             }
-            count += 1u;
+            count += neighbour.count;
             let here = luminance(gi_value(s, other));
-            let weight = here * other.weight;
+            let weight = here * other.weight * f32(neighbour.count);
             if !(weight > 0.0) || !f32_is_finite(weight) {
                 continue;
             }

@@ -83,6 +83,10 @@ pub struct FrameArgs {
     /// reused by its neighbours in motion (needs --spp 1).
     #[arg(long)]
     restir_gi: bool,
+    /// With --restir-gi, merges each pixel's path with last frame's reservoir in motion
+    /// (temporal reuse), its count capped at this many paths (0: none).
+    #[arg(long, default_value_t = 0)]
+    restir_gi_history: u32,
     /// Where the reference and direct modes' numbers come from: sobol (the frames are each
     /// pixel's samples of Owen-scrambled Sobol draws, as the CPU reference's) or independent
     /// (PCG32 streams). The realtime and naive modes draw independent numbers.
@@ -128,6 +132,7 @@ impl FrameArgs {
         settings.denoise.enabled = !self.no_denoise;
         settings.restir.direct = self.restir_di;
         settings.restir.indirect = self.restir_gi;
+        settings.restir.indirect_history_cap = self.restir_gi_history;
         settings
     }
 }

@@ -12,10 +12,15 @@
 // Reuse assumes y reflects the same L toward every pixel that reuses it (a diffuse y), as
 // Ouyang et al. do: exact for the pixel's own sample, biased at glossy points for others.
 //
-// Packed in two rgba32uint texels: (y, W as f32 bits) and (L as f32 bits, y's octahedral
-// normal). W < 0 marks a sample that cannot be reused (a delta lobe at x: its pdf is not a
-// density); its second texel's L is then the path's whole contribution. W = 0 with L = 0 is
-// a path that found nothing to reuse (it ended or missed at the first bounce): it counts.
+// A pixel's reservoir (GiReservoir) is the sample it kept, the count M of candidates the sample
+// stands for (1 for the pixel's own path, more after temporal reuse) and the surface of the
+// pixel that kept it (lib/reservoir.wgsl's view depth and normal, for the next frame's
+// similarity test). It takes three rgba32uint texels, side by side in a texture three times
+// the image's width: (y, W as f32 bits), (L as f32 bits, y's octahedral normal) and (the
+// surface's depth, its normal, M, 0). W < 0 marks a sample that cannot be reused (a delta
+// lobe at x: its pdf is not a density); its second texel's L is then the path's whole
+// contribution. W = 0 with L = 0 is a path that found nothing to reuse (it ended or missed at
+// the first bounce): it counts.
 
 #import lib/float.wgsl
 #import lib/frame.wgsl
@@ -32,6 +37,36 @@ struct GiSample {
     normal: vec3<f32>,
     radiance: vec3<f32>,
     weight: f32,
+}
+
+// Texels a reservoir takes, side by side.
+const GI_RESERVOIR_TEXELS: i32 = 3;
+
+struct GiReservoir {
+    sample: GiSample,
+    // M: how many candidates the sample was drawn from.
+    count: u32,
+    // The kept-by pixel's surface (reservoir_surface_pack).
+    surface: vec4<u32>,
+}
+
+// Texel k of the reservoir of `pixel`.
+fn gi_reservoir_texel(pixel: vec2<i32>, k: i32) -> vec2<i32> {
+    return vec2<i32>(GI_RESERVOIR_TEXELS * pixel.x + k, pixel.y);
+}
+
+// A packed reservoir's third texel: its surface with its count.
+fn gi_reservoir_pack_count(r: GiReservoir) -> vec4<u32> {
+    return vec4<u32>(r.surface.xy, r.count, 0u);
+}
+
+// A packed reservoir; one whose sample is not finite (gi_sample_unpack) stands for no
+// candidate: count 0.
+fn gi_reservoir_unpack(point: vec4<u32>, radiance: vec4<u32>, count: vec4<u32>) -> GiReservoir {
+    let sample = gi_sample_unpack(point, radiance);
+    let broken = any(gi_sample_pack_point(sample) != point)
+        || any(gi_sample_pack_radiance(sample).xyz != radiance.xyz);
+    return GiReservoir(sample, select(count.z, 0u, broken), vec4<u32>(count.xy, 0u, 0u));
 }
 
 // A path that reached no point to reuse: counts as a candidate of weight 0.

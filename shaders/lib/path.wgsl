@@ -35,8 +35,10 @@ struct IndirectParams {
     firefly_clamp: f32,
     // 1: Owen-scrambled Sobol draws, `frame` being the sample index; 0: PCG32.
     sampler: u32,
-    pad1: u32,
-    pad2: u32,
+    // Most count M of last frame's resampled-indirect reservoir (restir_gi_initial.wgsl);
+    // 0: no temporal reuse.
+    gi_history_cap: u32,
+    pad: u32,
 }
 
 // chiaro_reference's PathSettings::default().russian_roulette_from and its survival floor.

@@ -11,7 +11,8 @@
 //! 4. `indirect` (compute): `spp` paths from the surface seen, the light they gather after the
 //!    first bounce (naive mode: all reflected light, by uniform hemisphere sampling); with
 //!    resampled indirect light, `restir_gi_initial` and `restir_gi_spatial` instead: one path
-//!    a pixel kept as a sample, resampled with its neighbours'.
+//!    a pixel kept as a sample, merged with last frame's reservoir and resampled with its
+//!    neighbours'; the reservoirs are then copied as the next frame's history.
 //! 5. `temporal`, `variance`, `atrous` (compute; realtime mode with the denoiser on): the
 //!    lighting demodulated by albedo, reprojected and accumulated, its variance estimated, and
 //!    filtered edge-aware.
@@ -100,6 +101,10 @@ pub struct Frame {
     denoised: bool,
     /// Whether the last frame resampled its direct light (if not, the reservoirs are stale).
     resampled: bool,
+    /// Whether the frame keeps its resampled-indirect reservoirs as history (copies them to
+    /// `gi_history` after its spatial pass); until the next frame's parameters are written,
+    /// the last frame's (if it did not, `gi_history` is stale).
+    keeps_gi_history: bool,
     camera: wgpu::Buffer,
     restir_params: wgpu::Buffer,
     direct_params: wgpu::Buffer,
@@ -204,6 +209,7 @@ impl Frame {
             denoiser,
             denoised: false,
             resampled: false,
+            keeps_gi_history: false,
             camera,
             restir_params,
             direct_params,
@@ -304,12 +310,12 @@ impl Frame {
             sampler: u32::from(sobol),
         };
         queue.write_buffer(&self.direct_params, 0, bytemuck::bytes_of(&direct));
+        let converging =
+            s.mode.accumulates() || running_mean_frames(&s.denoise, input.stillness) > 0;
         if s.resamples() {
             // Last frame's reservoirs are this view's unless the history restarts or last
             // frame did not resample.
             let history = !input.reset_history && self.resampled;
-            let converging =
-                s.mode.accumulates() || running_mean_frames(&s.denoise, input.stillness) > 0;
             let restir = RestirParams::new(
                 s,
                 (input.frame, input.seed),
@@ -320,6 +326,10 @@ impl Frame {
             queue.write_buffer(&self.restir_params, 0, bytemuck::bytes_of(&restir));
         }
         self.resampled = s.resamples_direct_light();
+        // As the direct light's, last frame's indirect reservoirs are merged only in motion
+        // (see `RestirParams::new`).
+        let gi_history = !input.reset_history && self.keeps_gi_history && !converging;
+        self.keeps_gi_history = s.resamples_indirect_light() && s.restir.indirect_history_cap > 0;
         let indirect = IndirectParams {
             frame,
             seed_lo,
@@ -335,7 +345,12 @@ impl Frame {
             light_sampling: light_sampling(s),
             firefly_clamp: firefly_clamp(s),
             sampler: u32::from(sobol),
-            pad: [0; 2],
+            gi_history_cap: if gi_history {
+                s.restir.indirect_history_cap
+            } else {
+                0
+            },
+            pad: 0,
         };
         queue.write_buffer(&self.indirect_params, 0, bytemuck::bytes_of(&indirect));
         let weights = history_weights(&s.denoise, input.stillness);
@@ -421,13 +436,23 @@ impl Frame {
                 t,
                 timer.compute(slot, index),
             ),
-            Pass::RestirGiSpatial => self.scene_passes.restir_gi_spatial.record(
-                encoder,
-                scene,
-                &self.restir_gi_groups[1],
-                t,
-                timer.compute(slot, index),
-            ),
+            Pass::RestirGiSpatial => {
+                self.scene_passes.restir_gi_spatial.record(
+                    encoder,
+                    scene,
+                    &self.restir_gi_groups[1],
+                    t,
+                    timer.compute(slot, index),
+                );
+                if self.keeps_gi_history {
+                    let texture = &t.gi_reservoirs.texture;
+                    encoder.copy_texture_to_texture(
+                        texture.as_image_copy(),
+                        t.gi_history.texture.as_image_copy(),
+                        texture.size(),
+                    );
+                }
+            }
             Pass::Temporal => self
                 .denoiser
                 .record_temporal(encoder, t, timer.compute(slot, index)),

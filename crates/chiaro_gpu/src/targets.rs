@@ -27,6 +27,9 @@ pub const RESOLVE_SURFACE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32
 /// Format of the resampled direct light's reservoirs and their surfaces
 /// (`shaders/lib/reservoir.wgsl`).
 pub const RESERVOIR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
+/// Texels of [`RESERVOIR_FORMAT`] a resampled-indirect reservoir takes, side by side
+/// (`GI_RESERVOIR_TEXELS` in `shaders/lib/gi_sample.wgsl`).
+pub const GI_RESERVOIR_TEXELS: u32 = 3;
 
 /// A texture and its default view.
 pub struct Target {
@@ -127,11 +130,14 @@ pub struct FrameTargets {
     /// The surface (view depth, normal) of each of `reservoirs`, for the next frame's
     /// similarity test.
     pub reservoir_surfaces: Target,
-    /// Resampled indirect light (1 x 1 until a frame resamples): each pixel's path as a
-    /// sample, its first bounce's point and contribution weight (`restir_gi_initial`).
-    pub gi_points: Target,
-    /// Resampled indirect light: the light each of `gi_points` reflects and its normal.
-    pub gi_radiance: Target,
+    /// Resampled indirect light (1 x 1 until a frame resamples): each pixel's reservoir,
+    /// three texels side by side (`shaders/lib/gi_sample.wgsl`): its path's sample, merged
+    /// with last frame's reservoir where temporal reuse is on (`restir_gi_initial`), read by
+    /// the spatial pass.
+    pub gi_reservoirs: Target,
+    /// Resampled indirect light: last frame's `gi_reservoirs`, copied after its spatial pass
+    /// where temporal reuse is on.
+    pub gi_history: Target,
 }
 
 impl FrameTargets {
@@ -152,8 +158,8 @@ impl FrameTargets {
             reservoirs_temporal,
             reservoirs,
             reservoir_surfaces,
-            gi_points,
-            gi_radiance,
+            gi_reservoirs,
+            gi_history,
         ] = reservoir_targets(device, (1, 1));
         Self {
             width,
@@ -197,14 +203,14 @@ impl FrameTargets {
             reservoirs_temporal,
             reservoirs,
             reservoir_surfaces,
-            gi_points,
-            gi_radiance,
+            gi_reservoirs,
+            gi_history,
         }
     }
 
     /// Gives the reservoirs and samples of resampled direct and indirect light the frame's
     /// size, the first time a frame resamples either: they start at 1 x 1, so a frame that
-    /// never does holds 80 bytes a pixel less.
+    /// never does holds 144 bytes a pixel less.
     /// Returns whether they were made again (and so must be bound again).
     pub fn size_reservoirs(&mut self, device: &wgpu::Device) -> bool {
         let size = (self.width, self.height);
@@ -216,27 +222,27 @@ impl FrameTargets {
             self.reservoirs_temporal,
             self.reservoirs,
             self.reservoir_surfaces,
-            self.gi_points,
-            self.gi_radiance,
+            self.gi_reservoirs,
+            self.gi_history,
         ] = reservoir_targets(device, size);
         true
     }
 }
 
 /// The resampled light's targets at `size`: direct light's first-pass reservoirs, final ones
-/// and their surfaces, indirect light's sample points and radiance (writable from the CPU too:
-/// tests poison them to check that nothing spreads).
-fn reservoir_targets(device: &wgpu::Device, size: (u32, u32)) -> [Target; 5] {
+/// and their surfaces, indirect light's reservoirs and last frame's (three texels a pixel).
+fn reservoir_targets(device: &wgpu::Device, (width, height): (u32, u32)) -> [Target; 5] {
     use wgpu::TextureUsages as U;
     let usage = U::STORAGE_BINDING | U::TEXTURE_BINDING | U::COPY_SRC | U::COPY_DST;
+    let target =
+        |label, width| Target::new(device, label, RESERVOIR_FORMAT, (width, height), usage);
     [
-        "reservoirs temporal",
-        "reservoirs",
-        "reservoir surfaces",
-        "gi sample points",
-        "gi sample radiance",
+        target("reservoirs temporal", width),
+        target("reservoirs", width),
+        target("reservoir surfaces", width),
+        target("gi reservoirs", GI_RESERVOIR_TEXELS * width),
+        target("gi history", GI_RESERVOIR_TEXELS * width),
     ]
-    .map(|label| Target::new(device, label, RESERVOIR_FORMAT, size, usage))
 }
 
 /// A storage buffer of `bytes` per pixel.

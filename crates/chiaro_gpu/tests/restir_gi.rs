@@ -2,7 +2,10 @@
 //! from the frame's indirect-light target before the denoiser: without neighbours it is the
 //! path tracer's estimate (its mean over frames agrees with the indirect pass's within their
 //! noise); with neighbours one frame's error against the converged indirect light is lower,
-//! and its mean stays close; a NaN or an infinity in a pixel's sample reaches no pixel.
+//! and its mean stays close; with last frame's reservoirs merged as well (a still camera whose
+//! frames are not averaged), lower again, the mean still close; a NaN or an infinity in a
+//! pixel's sample reaches no pixel. (The reservoirs' history in motion is in
+//! `restir_gi_history.rs`.)
 
 mod common;
 
@@ -16,14 +19,16 @@ const SIZE: u32 = 32;
 const FRAMES: u32 = 128;
 
 /// Realtime frames whose indirect light is resampled with `neighbours` (`None`: not
-/// resampled), without the firefly clamp (its bias differs between the estimators) and
-/// without the still view's running mean (which turns reuse off).
-fn settings(neighbours: Option<u32>, seed: u64) -> RenderSettings {
+/// resampled) and last frame's reservoirs counting up to `history` paths (0: none), without
+/// the firefly clamp (its bias differs between the estimators) and without the still view's
+/// running mean (which turns reuse off).
+fn settings(neighbours: Option<u32>, history: u32, seed: u64) -> RenderSettings {
     let mut frame = FrameSettings {
         firefly_clamp: 0.0,
         restir: RestirSettings {
             indirect: neighbours.is_some(),
             indirect_spatial_samples: neighbours.unwrap_or(0),
+            indirect_history_cap: history,
             spatial_radius: 4.0,
             ..RestirSettings::default()
         },
@@ -122,9 +127,9 @@ fn resampled_indirect_light_is_the_path_tracers_without_neighbours_and_less_nois
     let Some(mut gpu) = gpu() else {
         return;
     };
-    let paths = indirect_frames(&mut gpu, &settings(None, 1), FRAMES);
-    let own = indirect_frames(&mut gpu, &settings(Some(0), 2), FRAMES);
-    let reused = indirect_frames(&mut gpu, &settings(Some(4), 3), FRAMES);
+    let paths = indirect_frames(&mut gpu, &settings(None, 0, 1), FRAMES);
+    let own = indirect_frames(&mut gpu, &settings(Some(0), 0, 2), FRAMES);
+    let reused = indirect_frames(&mut gpu, &settings(Some(4), 0, 3), FRAMES);
     let converged = mean_image(&paths);
 
     let (paths_mean, paths_se) = mean_and_error(&frame_means(&paths));
@@ -162,11 +167,41 @@ fn resampled_indirect_light_is_the_path_tracers_without_neighbours_and_less_nois
 }
 
 #[test]
+fn temporal_reuse_keeps_the_mean_and_lowers_one_frames_error() {
+    let Some(mut gpu) = gpu() else {
+        return;
+    };
+    let paths = indirect_frames(&mut gpu, &settings(None, 0, 1), FRAMES);
+    let spatial = indirect_frames(&mut gpu, &settings(Some(4), 0, 3), FRAMES);
+    let temporal = indirect_frames(&mut gpu, &settings(Some(4), 20, 5), FRAMES);
+    let converged = mean_image(&paths);
+    let (paths_mean, _) = mean_and_error(&frame_means(&paths));
+    let (temporal_mean, temporal_se) = mean_and_error(&frame_means(&temporal));
+    let bias = temporal_mean / paths_mean - 1.0;
+    // The first frames have no history yet: one frame's error is read from the 17th on.
+    let spatial_error = frame_error(&spatial[16..], &converged);
+    let temporal_error = frame_error(&temporal[16..], &converged);
+    eprintln!(
+        "image mean: paths {paths_mean:.5}, temporal {temporal_mean:.5} +- {temporal_se:.5} \
+         ({:.2}%); one frame's relMSE: spatial {spatial_error:.3e}, temporal {temporal_error:.3e}",
+        bias * 100.0
+    );
+    assert!(
+        bias.abs() < 0.05,
+        "temporal reuse moves the image mean by {bias:.3}"
+    );
+    assert!(
+        temporal_error < 0.7 * spatial_error,
+        "temporal {temporal_error:.3e}, spatial {spatial_error:.3e}"
+    );
+}
+
+#[test]
 fn a_nan_in_a_pixels_sample_reaches_no_pixel() {
     let Some(mut gpu) = gpu() else {
         return;
     };
-    let s = settings(Some(8), 4);
+    let s = settings(Some(8), 20, 4);
     let clean = indirect_frames(&mut gpu, &s, 4);
     gpu.renderer.inject_non_finite(true);
     let poisoned = indirect_frames(&mut gpu, &s, 4);

@@ -19,6 +19,9 @@ pub struct BenchConfig {
 pub const RESTIR_DI_CONFIG: &str = "realtime-restir-di";
 /// The realtime configuration with resampled indirect light.
 pub const RESTIR_GI_CONFIG: &str = "realtime-restir-gi";
+/// The realtime configuration with resampled indirect light and temporal reuse of its
+/// reservoirs (history cap 20).
+pub const RESTIR_GI_TEMPORAL_CONFIG: &str = "realtime-restir-gi-temporal";
 /// The realtime configuration with resampled direct and indirect light.
 pub const RESTIR_CONFIG: &str = "realtime-restir";
 
@@ -63,7 +66,7 @@ pub fn default_configs() -> Vec<BenchConfig> {
 /// and realtime with lights picked by power instead of through the light trees (the
 /// many-lights baseline), realtime whose still view keeps the moving average's memory
 /// (what [`chiaro_gpu::still_view`] buys), and realtime with resampled direct light, indirect
-/// light or both ([`chiaro_gpu::RestirSettings`]).
+/// light (with and without temporal reuse) or both ([`chiaro_gpu::RestirSettings`]).
 pub fn extra_configs() -> Vec<BenchConfig> {
     let realtime = FrameSettings::default();
     let power = LightSampling::Power;
@@ -73,6 +76,8 @@ pub fn extra_configs() -> Vec<BenchConfig> {
     restir_di.restir.direct = true;
     let mut restir_gi = realtime;
     restir_gi.restir.indirect = true;
+    let mut restir_gi_temporal = restir_gi;
+    restir_gi_temporal.restir.indirect_history_cap = 20;
     let mut restir = restir_di;
     restir.restir.indirect = true;
     configs([
@@ -101,6 +106,7 @@ pub fn extra_configs() -> Vec<BenchConfig> {
         ("realtime-moving-average", moving_average),
         (RESTIR_DI_CONFIG, restir_di),
         (RESTIR_GI_CONFIG, restir_gi),
+        (RESTIR_GI_TEMPORAL_CONFIG, restir_gi_temporal),
         (RESTIR_CONFIG, restir),
     ])
 }
@@ -112,7 +118,12 @@ pub(super) fn path_configs(configs: &[BenchConfig]) -> Vec<BenchConfig> {
         name: PATH_CONFIG.into(),
         settings: RenderSettings::default(),
     }];
-    let resampling = [RESTIR_DI_CONFIG, RESTIR_GI_CONFIG, RESTIR_CONFIG];
+    let resampling = [
+        RESTIR_DI_CONFIG,
+        RESTIR_GI_CONFIG,
+        RESTIR_GI_TEMPORAL_CONFIG,
+        RESTIR_CONFIG,
+    ];
     paths.extend(
         configs
             .iter()

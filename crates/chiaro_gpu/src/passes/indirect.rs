@@ -39,8 +39,11 @@ pub struct IndirectParams {
     /// 1: Owen-scrambled Sobol draws, `frame` being the pixel's sample index (the reference
     /// mode's frames accumulated before this one); 0: PCG32 streams.
     pub sampler: u32,
+    /// Most count M of last frame's resampled-indirect reservoir merged by
+    /// `restir_gi_initial` (`RestirSettings::indirect_history_cap`); 0: no temporal reuse.
+    pub gi_history_cap: u32,
     /// Padding to 16 bytes.
-    pub pad: [u32; 2],
+    pub pad: u32,
 }
 
 /// Selects the indirect pass's shader, output and input (the direct pass's BRDF-ray hits).
