@@ -96,14 +96,10 @@ fn store_reservoir(pixel: vec2<i32>, r: GiReservoir) {
     textureStore(reservoirs_out, gi_reservoir_texel(pixel, 2), gi_reservoir_pack_count(r));
 }
 
-// Last frame's reservoir at the point `pixel` moved from, where temporal reuse is on, its
-// surface is similar to (depth, normal) and its sample reusable, its count capped; a count of
-// 0 where not.
+// Last frame's reservoir at the point `pixel` moved from, where its surface is similar to
+// (depth, normal) and its sample reusable, its count capped; a count of 0 where not.
 fn history_reservoir(pixel: vec2<i32>, depth: f32, normal: vec3<f32>, size: vec2<u32>) -> GiReservoir {
-    var none = GiReservoir(gi_sample_none(), 0u, reservoir_no_surface());
-    if params.gi_history_cap == 0u {
-        return none;
-    }
+    let none = GiReservoir(gi_sample_none(), 0u, reservoir_no_surface());
     let motion = motion_unpack(textureLoad(gbuffer_motion, pixel, 0).x);
     if !all(abs(motion) < vec2<f32>(1.0e6)) {
         return none;
@@ -164,7 +160,7 @@ fn main(@builtin(workgroup_id) workgroup: vec3<u32>, @builtin(local_invocation_i
             var rng = start.rng;
             r.sample = gi_path(x0, &rng, start.first);
             let depth = reservoir_depth(camera, g.position);
-            if gi_sample_reusable(r.sample) {
+            if params.gi_history_cap > 0u && gi_sample_reusable(r.sample) {
                 let history = history_reservoir(pixel, depth, g.shading_normal, size);
                 let seed = vec2<u32>(params.seed_lo, params.seed_hi) ^ RESTIR_GI_TEMPORAL_SEED;
                 var merge_rng = pcg32_new(seed, vec2<u32>(index, params.frame));

@@ -213,7 +213,7 @@ mod tests {
         let settings = DenoiseSettings::default();
         let a = f64::from(settings.temporal_floor);
         let settle = settle_frames(settings.temporal_floor);
-        assert_eq!(settle, 90);
+        assert_eq!(settle, 21);
         let mut stale = 1.0_f64;
         for j in 0..2000u32 {
             let w = f64::from(history_weights(&settings, still(j, false)).floor);
