@@ -55,6 +55,20 @@ pub enum RenderError {
         /// The device's largest texture side.
         max: u32,
     },
+    /// Resampled indirect light keeps three texels a pixel side by side, so the image is too
+    /// wide for it on this device.
+    #[error(
+        "image width {width} is over {max} on this device with resampled indirect light \
+         (--restir-gi keeps {texels} texels a pixel in one row)"
+    )]
+    ResampledIndirectWidth {
+        /// Requested width.
+        width: u32,
+        /// The widest image resampled indirect light allows on this device.
+        max: u32,
+        /// Texels a pixel's reservoir takes.
+        texels: u32,
+    },
 }
 
 /// How to render.
@@ -362,6 +376,11 @@ impl Renderer {
         let (width, height) = (settings.width, settings.height);
         if width == 0 || height == 0 || width > max || height > max {
             return Err(RenderError::Size { width, height, max });
+        }
+        let texels = crate::targets::GI_RESERVOIR_TEXELS;
+        if settings.frame.resamples_indirect_light() && width > max / texels {
+            let max = max / texels;
+            return Err(RenderError::ResampledIndirectWidth { width, max, texels });
         }
         self.attach(world);
         if self.world != Some(world.id()) {

@@ -1,7 +1,8 @@
 //! Resampled indirect light (ReSTIR GI) in motion: each pixel's reservoir carries last frame's
 //! paths while the camera pans, a jump to a view whose surfaces last frame did not see
 //! restarts them, and a NaN or an infinity written into last frame's reservoirs does not reach
-//! the image. (The estimate's mean and noise are in `restir_gi.rs`.)
+//! the image; an image too wide for the reservoirs' texture is refused with an error. (The
+//! estimate's mean and noise are in `restir_gi.rs`.)
 
 mod common;
 
@@ -162,4 +163,21 @@ fn a_nan_in_last_frames_indirect_reservoirs_does_not_reach_the_image() {
         (got - expected).abs().max_element() < 0.25 * expected.max_element(),
         "{got} against {expected}"
     );
+}
+
+#[test]
+fn an_image_too_wide_for_the_reservoirs_is_refused() {
+    let Some((mut renderer, device, _)) = renderer() else {
+        return;
+    };
+    let max = device.limits().max_texture_dimension_2d;
+    let mut s = settings();
+    s.width = max / TEXELS as u32 + 1;
+    s.height = 1;
+    let err = renderer.render(&mut cornell(), &s).unwrap_err().to_string();
+    assert!(err.contains("--restir-gi"), "{err}");
+    // The same width renders without resampled indirect light.
+    s.frame.restir.indirect = false;
+    s.frame.denoise.enabled = false;
+    renderer.render(&mut cornell(), &s).unwrap();
 }
