@@ -236,7 +236,8 @@ fn pass_params_match_their_wgsl_structs() {
                 ("light_sampling", offset_of!(IndirectParams, light_sampling)),
                 ("firefly_clamp", offset_of!(IndirectParams, firefly_clamp)),
                 ("sampler", offset_of!(IndirectParams, sampler)),
-                ("pad1", offset_of!(IndirectParams, pad)),
+                ("gi_history_cap", offset_of!(IndirectParams, gi_history_cap)),
+                ("pad", offset_of!(IndirectParams, pad)),
             ],
         );
     }
