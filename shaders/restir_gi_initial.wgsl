@@ -120,25 +120,14 @@ fn history_reservoir(pixel: vec2<i32>, depth: f32, normal: vec3<f32>, size: vec2
 
 // The pixel's sample merged with `history` at x0 (Ouyang et al., algorithm 3).
 fn merged(x0: Shading, own: GiSample, history: GiReservoir, rand: f32) -> GiReservoir {
-    var kept = own;
-    var kept_target = luminance(gi_value(x0, own));
-    var weight_sum = kept_target * own.weight;
-    var count = 1u;
+    var r = gi_resampling_start(own, luminance(gi_value(x0, own)), 1u);
     if history.count > 0u {
-        count += history.count;
         let here = luminance(gi_value(x0, history.sample));
-        let weight = here * history.sample.weight * f32(history.count);
-        if weight > 0.0 && f32_is_finite(weight) {
-            weight_sum += weight;
-            if rand * weight_sum < weight {
-                kept = history.sample;
-                kept_target = here;
-            }
-        }
+        gi_resampling_add(&r, history.sample, here, history.count, rand);
     }
-    let w = weight_sum / (f32(count) * kept_target);
-    kept.weight = select(0.0, w, kept_target > 0.0 && weight_sum > 0.0 && f32_is_finite(w));
-    return GiReservoir(kept, count, vec4<u32>(0u));
+    var kept = r.kept;
+    kept.weight = gi_resampling_weight(r);
+    return GiReservoir(kept, r.count, vec4<u32>(0u));
 }
 
 @compute @workgroup_size(8, 8)

@@ -91,11 +91,9 @@ fn main(@builtin(workgroup_id) workgroup: vec3<u32>, @builtin(local_invocation_i
         let index = id.y * size.x + id.x;
         let seed = vec2<u32>(params.seed_lo, params.seed_hi) ^ RESTIR_GI_SEED;
         var rng = pcg32_new(seed, vec2<u32>(index, params.frame));
-        var kept = own;
+        var r = gi_resampling_start(own, luminance(gi_value(s, own)),
+            max(own_reservoir.count, 1u));
         var kept_own = true;
-        var kept_target = luminance(gi_value(s, own));
-        var count = max(own_reservoir.count, 1u);
-        var weight_sum = kept_target * own.weight * f32(count);
         for (var i = 0u; i < min(params.indirect_spatial_samples, GI_MAX_NEIGHBOURS); i++) {
             let n = reservoir_neighbour(pixel, size, pcg32_next_vec2(&rng), params.spatial_radius,
                 depth, g.shading_normal);
@@ -111,21 +109,14 @@ fn main(@builtin(workgroup_id) workgroup: vec3<u32>, @builtin(local_invocation_i
             if !gi_jacobian_bounded(s, n.position, other) {
                 continue;
             }
-            count += neighbour.count;
             let here = luminance(gi_value(s, other));
-            let weight = here * other.weight * f32(neighbour.count);
-            if !(weight > 0.0) || !f32_is_finite(weight) {
-                continue;
-            }
-            weight_sum += weight;
-            if rand * weight_sum < weight {
-                kept = other;
+            if gi_resampling_add(&r, other, here, neighbour.count, rand) {
                 kept_own = false;
-                kept_target = here;
             }
         }
-        if kept_target > 0.0 && weight_sum > 0.0 {
-            let contribution_weight = weight_sum / (f32(count) * kept_target);
+        let contribution_weight = gi_resampling_weight(r);
+        if contribution_weight > 0.0 {
+            let kept = r.kept;
             radiance = gi_value(s, kept) * contribution_weight;
             if !kept_own {
                 let to_point = kept.point - s.position;

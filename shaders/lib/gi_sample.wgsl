@@ -69,6 +69,46 @@ fn gi_reservoir_unpack(point: vec4<u32>, radiance: vec4<u32>, count: vec4<u32>) 
     return GiReservoir(sample, select(count.z, 0u, broken), vec4<u32>(count.xy, 0u, 0u));
 }
 
+// Resampling of reservoirs at one shading point (Ouyang et al., algorithms 3 and 4): each
+// enters by its sample's target here times its W times its M, and the survivor's W is the sum
+// of those weights over the summed counts and its target (1/M).
+struct GiResampling {
+    kept: GiSample,
+    kept_target: f32,
+    weight_sum: f32,
+    count: u32,
+}
+
+// The resampling that starts from the pixel's own reservoir: its sample of target `here`
+// at the shading point, standing for `count` candidates.
+fn gi_resampling_start(own: GiSample, here: f32, count: u32) -> GiResampling {
+    return GiResampling(own, here, here * own.weight * f32(count), count);
+}
+
+// Adds a reservoir's sample of target `here` at the shading point, standing for `count`
+// candidates, kept with the number `rand`; true if it is kept. A weight that is not positive
+// and finite adds its count only.
+fn gi_resampling_add(r: ptr<function, GiResampling>, sample: GiSample, here: f32, count: u32, rand: f32) -> bool {
+    (*r).count += count;
+    let weight = here * sample.weight * f32(count);
+    if !(weight > 0.0) || !f32_is_finite(weight) {
+        return false;
+    }
+    (*r).weight_sum += weight;
+    if rand * (*r).weight_sum < weight {
+        (*r).kept = sample;
+        (*r).kept_target = here;
+        return true;
+    }
+    return false;
+}
+
+// The survivor's contribution weight W; 0 where it has no target or nothing was weighed.
+fn gi_resampling_weight(r: GiResampling) -> f32 {
+    let w = r.weight_sum / (f32(r.count) * r.kept_target);
+    return select(0.0, w, r.kept_target > 0.0 && r.weight_sum > 0.0 && f32_is_finite(w));
+}
+
 // A path that reached no point to reuse: counts as a candidate of weight 0.
 fn gi_sample_none() -> GiSample {
     return GiSample(vec3<f32>(0.0), vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0), 0.0);

@@ -6,9 +6,9 @@
 
 mod common;
 
-use bevy_ecs::world::World;
 use chiaro_gpu::{FrameSettings, RenderSettings, Renderer, RestirSettings};
-use chiaro_scene::{ActiveCamera, Transform, load_scene};
+use chiaro_scene::{ActiveCamera, Transform};
+use common::{cornell, renderer_and_queue as renderer, turn};
 use glam::Vec3;
 
 const SIZE: u32 = 32;
@@ -30,33 +30,13 @@ fn settings() -> RenderSettings {
     }
 }
 
-fn cornell() -> World {
-    let mut world = World::new();
-    load_scene(&mut world, "builtin:cornell").unwrap();
-    world
-}
-
-/// A renderer, and the device and queue it renders with (for reading and writing the
-/// reservoirs).
-fn renderer() -> Option<(Renderer, wgpu::Device, wgpu::Queue)> {
-    let context = common::gpu()?;
-    let (device, queue) = (context.device.clone(), context.queue.clone());
-    Some((Renderer::new(context), device, queue))
-}
-
-/// Turns the active camera about the vertical by `degrees`.
-fn turn(world: &mut World, degrees: f32) {
-    let camera = world.resource::<ActiveCamera>().0;
-    let mut transform = world.get_mut::<Transform>(camera).unwrap();
-    transform.rotation = glam::Quat::from_rotation_y(degrees.to_radians()) * transform.rotation;
-}
-
 /// The count M of each pixel's final reservoir.
 fn counts(renderer: &Renderer, device: &wgpu::Device, queue: &wgpu::Queue) -> Vec<u32> {
     let texture = &renderer.frame().unwrap().targets.reservoirs.texture;
-    let bytes = chiaro_gpu::readback::read_texture(device, queue, texture, 16).unwrap();
-    let texels: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes);
-    texels.chunks_exact(4).map(|t| t[3]).collect()
+    common::read_words(device, queue, texture)
+        .chunks_exact(4)
+        .map(|t| t[3])
+        .collect()
 }
 
 #[test]
@@ -128,16 +108,7 @@ fn a_nan_in_last_frames_reservoirs_does_not_reach_the_image() {
         })
         .collect();
     let texture = &renderer.frame().unwrap().targets.reservoirs.texture;
-    queue.write_texture(
-        texture.as_image_copy(),
-        bytemuck::cast_slice(&poison),
-        wgpu::TexelCopyBufferLayout {
-            offset: 0,
-            bytes_per_row: Some(16 * SIZE),
-            rows_per_image: None,
-        },
-        texture.size(),
-    );
+    common::write_words(&queue, texture, &poison);
     turn(&mut world, 0.5);
     renderer.accumulate(&mut world, &s, 1).unwrap();
     let image = renderer.read(&s).unwrap().hdr;

@@ -6,9 +6,9 @@
 
 mod common;
 
-use bevy_ecs::world::World;
 use chiaro_gpu::{FrameSettings, RenderSettings, Renderer, RestirSettings};
-use chiaro_scene::{ActiveCamera, Transform, load_scene};
+use chiaro_scene::{ActiveCamera, Transform};
+use common::{cornell, read_words, renderer_and_queue as renderer, turn};
 use glam::Vec3;
 
 const SIZE: u32 = 32;
@@ -33,37 +33,10 @@ fn settings() -> RenderSettings {
     }
 }
 
-fn cornell() -> World {
-    let mut world = World::new();
-    load_scene(&mut world, "builtin:cornell").unwrap();
-    world
-}
-
-/// A renderer, and the device and queue it renders with (for reading and writing the
-/// reservoirs).
-fn renderer() -> Option<(Renderer, wgpu::Device, wgpu::Queue)> {
-    let context = common::gpu()?;
-    let (device, queue) = (context.device.clone(), context.queue.clone());
-    Some((Renderer::new(context), device, queue))
-}
-
-/// Turns the active camera about the vertical by `degrees`.
-fn turn(world: &mut World, degrees: f32) {
-    let camera = world.resource::<ActiveCamera>().0;
-    let mut transform = world.get_mut::<Transform>(camera).unwrap();
-    transform.rotation = glam::Quat::from_rotation_y(degrees.to_radians()) * transform.rotation;
-}
-
-/// The words of a reservoir texture, four a texel.
-fn words(texture: &wgpu::Texture, device: &wgpu::Device, queue: &wgpu::Queue) -> Vec<u32> {
-    let bytes = chiaro_gpu::readback::read_texture(device, queue, texture, 16).unwrap();
-    bytemuck::pod_collect_to_vec(&bytes)
-}
-
 /// The count M of each pixel's reservoir after this frame's temporal merge.
 fn counts(renderer: &Renderer, device: &wgpu::Device, queue: &wgpu::Queue) -> Vec<u32> {
     let texture = &renderer.frame().unwrap().targets.gi_reservoirs.texture;
-    words(texture, device, queue)
+    read_words(device, queue, texture)
         .chunks_exact(4 * TEXELS)
         .map(|r| r[4 * (TEXELS - 1) + 2])
         .collect()
@@ -133,22 +106,13 @@ fn a_nan_in_last_frames_indirect_reservoirs_does_not_reach_the_image() {
             // Every reservoir keeps its surface, so it passes the similarity test, but its
             // point, weight and light become NaN, +inf or -inf and its count huge.
             let texture = &renderer.frame().unwrap().targets.gi_history.texture;
-            let mut history = words(texture, &device, &queue);
+            let mut history = read_words(&device, &queue, texture);
             for (i, r) in history.chunks_exact_mut(4 * TEXELS).enumerate() {
                 let bad = [f32::NAN, f32::INFINITY, f32::NEG_INFINITY][i % 3].to_bits();
                 r[..7].fill(bad);
                 r[4 * (TEXELS - 1) + 2] = u32::MAX;
             }
-            queue.write_texture(
-                texture.as_image_copy(),
-                bytemuck::cast_slice(&history),
-                wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(16 * TEXELS as u32 * SIZE),
-                    rows_per_image: None,
-                },
-                texture.size(),
-            );
+            common::write_words(&queue, texture, &history);
         }
         turn(&mut world, 0.5);
         renderer.accumulate(&mut world, &s, 1).unwrap();

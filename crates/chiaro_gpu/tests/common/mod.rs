@@ -113,3 +113,51 @@ pub fn spawn_under_white_sky(mut b: SceneBuilder, eye: Vec3) -> World {
     b.spawn(&mut world);
     world
 }
+
+/// The built-in Cornell box in a new world.
+#[allow(dead_code)]
+pub fn cornell() -> World {
+    let mut world = World::new();
+    chiaro_scene::load_scene(&mut world, "builtin:cornell").unwrap();
+    world
+}
+
+/// A renderer, and the device and queue it renders with (for reading and writing its
+/// targets); `None` where [`gpu`] is.
+#[allow(dead_code)]
+pub fn renderer_and_queue() -> Option<(chiaro_gpu::Renderer, wgpu::Device, wgpu::Queue)> {
+    let context = gpu()?;
+    let (device, queue) = (context.device.clone(), context.queue.clone());
+    Some((chiaro_gpu::Renderer::new(context), device, queue))
+}
+
+/// Turns the active camera about the vertical by `degrees`.
+#[allow(dead_code)]
+pub fn turn(world: &mut World, degrees: f32) {
+    use chiaro_scene::{ActiveCamera, Transform};
+    let camera = world.resource::<ActiveCamera>().0;
+    let mut transform = world.get_mut::<Transform>(camera).unwrap();
+    transform.rotation = glam::Quat::from_rotation_y(degrees.to_radians()) * transform.rotation;
+}
+
+/// The words of an `rgba32uint` texture, four a texel, row by row.
+#[allow(dead_code)]
+pub fn read_words(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture) -> Vec<u32> {
+    let bytes = chiaro_gpu::readback::read_texture(device, queue, texture, 16).unwrap();
+    bytemuck::pod_collect_to_vec(&bytes)
+}
+
+/// Overwrites an `rgba32uint` texture with `words`, four a texel, row by row.
+#[allow(dead_code)]
+pub fn write_words(queue: &wgpu::Queue, texture: &wgpu::Texture, words: &[u32]) {
+    queue.write_texture(
+        texture.as_image_copy(),
+        bytemuck::cast_slice(words),
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(16 * texture.width()),
+            rows_per_image: None,
+        },
+        texture.size(),
+    );
+}
