@@ -11,7 +11,7 @@
 //! unbiased by dividing the survivors' throughput by their survival probability.
 
 use chiaro_bvh::{Ray, offset_ray_origin};
-use chiaro_shading::brdf;
+use chiaro_shading::brdf::Bsdf;
 use chiaro_shading::lights::{self, LightSample};
 use chiaro_shading::sampling::{power_heuristic, uniform_triangle};
 use glam::{Vec2, Vec3};
@@ -243,11 +243,12 @@ pub(crate) fn leaving_origin(si: &SurfaceHit, wi: Vec3) -> Vec3 {
     }
 }
 
-/// Next-event estimate at `si`: one light picked by power, sampled, tested for visibility.
+/// Next-event estimate at `si`, whose BSDF for the view is `bsdf`: one light picked by power,
+/// sampled, tested for visibility.
 fn direct_light(
     scene: &RenderScene,
     si: &SurfaceHit,
-    wo: Vec3,
+    bsdf: &Bsdf,
     rng: &mut impl RandomSource,
 ) -> Vec3 {
     let (u_pick, u) = rng.next_choice_and_vec2();
@@ -261,7 +262,7 @@ fn direct_light(
     if !on_its_side(si, ls.wi, wi.z) || ls.radiance == Vec3::ZERO {
         return Vec3::ZERO;
     }
-    let f = brdf::eval(&si.params, wo, wi) * wi.z.abs();
+    let f = bsdf.eval(wi) * wi.z.abs();
     if f == Vec3::ZERO {
         return Vec3::ZERO;
     }
@@ -282,7 +283,7 @@ fn direct_light(
         return f * ls.radiance / pick;
     }
     let light_pdf = pick * ls.pdf;
-    let weight = power_heuristic(1.0, light_pdf, 1.0, brdf::pdf(&si.params, wo, wi));
+    let weight = power_heuristic(1.0, light_pdf, 1.0, bsdf.pdf(wi));
     f * ls.radiance * weight / light_pdf
 }
 
@@ -340,11 +341,11 @@ pub fn radiance(
         if !si.shades || depth == last {
             break;
         }
-        let wo = si.frame.to_local(-ray.direction);
-        total += throughput * direct_light(scene, &si, wo, rng);
+        let bsdf = Bsdf::new(&si.params, si.frame.to_local(-ray.direction));
+        total += throughput * direct_light(scene, &si, &bsdf, rng);
 
         let (u_lobe, u) = rng.next_choice_and_vec2();
-        let Some(sample) = brdf::sample(&si.params, wo, u_lobe, u) else {
+        let Some(sample) = bsdf.sample(u_lobe, u) else {
             break;
         };
         let wi = si.frame.to_world(sample.wi);

@@ -61,6 +61,8 @@ use crate::ggx;
 use crate::sampling::cosine_hemisphere;
 use crate::sheen;
 
+pub use prepared::Bsdf;
+
 /// Below this alpha (= roughness^2, i.e. roughness below about 0.0316) the specular lobe is a
 /// perfect mirror: a delta lobe that [`eval`] and [`pdf`] leave out and [`sample`] returns with
 /// `delta: true`. At this alpha D peaks at 1/(pi 1e-6) = 3.2e5 and the reflected lobe is about
@@ -247,15 +249,20 @@ pub struct LobeProbabilities {
 /// wo.z <= 0).
 pub fn lobe_probabilities(p: &SurfaceParams, wo: Vec3) -> LobeProbabilities {
     if wo.z <= 0.0 {
-        return LobeProbabilities {
-            coat: 0.0,
-            sheen: 0.0,
-            specular: 0.0,
-            diffuse: 0.0,
-            transmission: 0.0,
-        };
+        return LobeProbabilities::NONE;
     }
     Material::new(p).lobe_probabilities(wo)
+}
+
+impl LobeProbabilities {
+    /// Every lobe 0: a material that reflects nothing, or a view from below.
+    pub const NONE: Self = Self {
+        coat: 0.0,
+        sheen: 0.0,
+        specular: 0.0,
+        diffuse: 0.0,
+        transmission: 0.0,
+    };
 }
 
 impl Material {
@@ -400,11 +407,15 @@ pub fn eval(p: &SurfaceParams, wo: Vec3, wi: Vec3) -> Vec3 {
     if wo.z <= 0.0 || wi.z == 0.0 || wi.z.is_nan() {
         return Vec3::ZERO;
     }
-    let m = Material::new(p);
+    eval_material(&Material::new(p), wo, wi)
+}
+
+/// [`eval`] for a prepared material, past its checks of `wo` and `wi`.
+fn eval_material(m: &Material, wo: Vec3, wi: Vec3) -> Vec3 {
     if wi.z < 0.0 {
         return m.transmission_eval(wo, wi);
     }
-    let l = lobes(&m, wo, wi);
+    let l = lobes(m, wo, wi);
     let coat = m.coat_weight(wo);
     ((l.diffuse * FRAC_1_PI + l.specular + l.sheen) * m.base_weight(wo)
         + Vec3::splat(l.coat * coat))
@@ -419,11 +430,16 @@ pub fn pdf(p: &SurfaceParams, wo: Vec3, wi: Vec3) -> f32 {
         return 0.0;
     }
     let m = Material::new(p);
-    let probabilities = m.lobe_probabilities(wo);
+    pdf_material(&m, wo, wi, m.lobe_probabilities(wo))
+}
+
+/// [`pdf`] for a prepared material and its lobe probabilities for `wo`, past its checks of
+/// `wo` and `wi`.
+fn pdf_material(m: &Material, wo: Vec3, wi: Vec3, probabilities: LobeProbabilities) -> f32 {
     if wi.z < 0.0 {
         return m.transmission_pdf(wo, wi, probabilities);
     }
-    combined_pdf(&m, wo, wi, probabilities)
+    combined_pdf(m, wo, wi, probabilities)
 }
 
 /// The pdf of the reflection lobes other than the diffuse one (specular, coat, sheen; selection
@@ -488,7 +504,17 @@ pub fn sample(p: &SurfaceParams, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BrdfS
         return None;
     }
     let m = Material::new(p);
-    let probabilities = m.lobe_probabilities(wo);
+    sample_material(&m, wo, m.lobe_probabilities(wo), u_lobe, u)
+}
+
+/// [`sample`] for a prepared material and its lobe probabilities for `wo` (wo.z > 0).
+fn sample_material(
+    m: &Material,
+    wo: Vec3,
+    probabilities: LobeProbabilities,
+    u_lobe: f32,
+    u: Vec2,
+) -> Option<BrdfSample> {
     let LobeProbabilities {
         coat: p_coat,
         sheen: p_sheen,
@@ -503,14 +529,14 @@ pub fn sample(p: &SurfaceParams, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BrdfS
     let u_base = u_lobe - p_coat - p_sheen;
     let wi = if u_lobe < p_coat {
         if m.coat_mirror {
-            return mirror_sample(&m, wo, probabilities, true);
+            return mirror_sample(m, wo, probabilities, true);
         }
         m.coat_sample(wo, u)
     } else if u_lobe - p_coat < p_sheen {
         sheen::sample(m.sheen_roughness, wo, u)?.0
     } else if u_base < p_specular {
         if m.mirror {
-            return mirror_sample(&m, wo, probabilities, false);
+            return mirror_sample(m, wo, probabilities, false);
         }
         let h = ggx::sample_vndf(wo, m.alpha, u);
         2.0 * wo.dot(h) * h - wo
@@ -522,18 +548,18 @@ pub fn sample(p: &SurfaceParams, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BrdfS
     if wi.z <= 0.0 {
         return None;
     }
-    let pdf = combined_pdf(&m, wo, wi, probabilities);
+    let pdf = combined_pdf(m, wo, wi, probabilities);
     if pdf.is_nan() || pdf <= 0.0 {
         return None;
     }
     // weight = f cos / pdf, divided through by cos / pi so that it stays finite as wi.z -> 0 and
     // is exactly the diffuse albedo for a purely diffuse material.
-    let l = lobes(&m, wo, wi);
+    let l = lobes(m, wo, wi);
     let coat = m.coat_weight(wo);
     let numerator = ((l.diffuse + (l.specular + l.sheen) * PI) * m.base_weight(wo)
         + Vec3::splat(l.coat * coat * PI))
         * m.scale;
-    let denominator = p_diffuse + glossy_lobes_pdf(&m, wo, wi, probabilities) * PI / wi.z;
+    let denominator = p_diffuse + glossy_lobes_pdf(m, wo, wi, probabilities) * PI / wi.z;
     Some(BrdfSample {
         wi,
         weight: numerator / denominator,
@@ -544,6 +570,7 @@ pub fn sample(p: &SurfaceParams, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BrdfS
 
 mod layers;
 mod lobe_choice;
+mod prepared;
 mod refraction;
 mod transmission;
 

@@ -26,13 +26,7 @@ impl Material {
         let sheen = self.sheen_estimate(wo_z);
         let base = self.sheen_scaling(wo_z, wo_z) * (specular + diffuse);
         let p_coat = split(coat, self.base_weight(wo) * (sheen + base));
-        let none = LobeProbabilities {
-            coat: 0.0,
-            sheen: 0.0,
-            specular: 0.0,
-            diffuse: 0.0,
-            transmission: 0.0,
-        };
+        let none = LobeProbabilities::NONE;
         if p_coat.is_nan() {
             return none;
         }
