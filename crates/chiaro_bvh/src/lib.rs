@@ -26,6 +26,8 @@
 //! - **ECS**: [`update_scene_bvh`] builds each mesh's BLAS once and touches the TLAS only when
 //!   instances change ([`BvhStats`] counts the work); [`add_bvh_systems`] schedules it after
 //!   [`chiaro_scene::propagate_transforms`].
+//! - **Still scenes** ([`FlatBvh`]): every instance's triangles in world space under one BVH,
+//!   for a renderer that traces a scene that will not change; the same hits without the TLAS.
 //! - **Secondary rays**: [`offset_ray_origin`] (Wächter and Binder 2019).
 //! - **GPU**: [`GpuBvhBuffers`].
 //!
@@ -66,6 +68,7 @@
 pub mod binned;
 pub mod blas;
 mod brute_force;
+pub mod flat;
 pub mod gpu;
 pub mod instance;
 pub mod layout;
@@ -81,6 +84,7 @@ pub mod watertight;
 pub mod wide;
 
 pub use blas::{Blas, BlasBuilder};
+pub use flat::{FLAT_MAX_TRIANGLES, FlatBvh};
 pub use gpu::{GpuBvhBuffers, GpuInstance};
 pub use instance::{InstanceRecord, InstanceRejection};
 pub use layout::{BvhTriangle, TLAS_LEAF_BIT, TlasNode};

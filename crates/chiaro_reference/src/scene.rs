@@ -2,7 +2,7 @@
 //! light table, the environment and the camera.
 
 use bevy_ecs::prelude::*;
-use chiaro_bvh::{Hit, Ray, SceneBvh};
+use chiaro_bvh::{FLAT_MAX_TRIANGLES, FlatBvh, Hit, Ray, SceneBvh};
 use chiaro_scene::{
     ActiveCamera, AlphaMode, Camera, Environment, EnvironmentSource, GlobalTransform, Material,
     Materials, Meshes, Textures,
@@ -18,6 +18,9 @@ use crate::surface::stops_ray;
 pub struct RenderScene<'w> {
     /// The BVH over every instance.
     pub bvh: SceneBvh,
+    /// The same triangles in world space under one tree, which ray queries take when the scene
+    /// has at most [`FLAT_MAX_TRIANGLES`] (the render is of a still scene; see [`FlatBvh`]).
+    pub flat: Option<FlatBvh>,
     /// Mesh data.
     pub meshes: &'w Meshes,
     /// Materials.
@@ -92,8 +95,10 @@ impl<'w> RenderScene<'w> {
         ) else {
             return Err(ReferenceError::NoScene);
         };
+        let flat = FlatBvh::build(&bvh, FLAT_MAX_TRIANGLES);
         Ok(Self {
             bvh,
+            flat,
             meshes,
             materials,
             textures,
@@ -110,10 +115,11 @@ impl<'w> RenderScene<'w> {
     /// The nearest surface along `ray` that stops it: alpha-masked texels are skipped, and
     /// alpha-blended surfaces stop it with probability alpha (`chiaro_shading::coverage`).
     pub fn closest_hit(&self, ray: &Ray) -> Option<Hit> {
-        if self.has_alpha_tests {
-            self.bvh.closest_hit_with(ray, &|h| stops_ray(self, ray, h))
-        } else {
-            self.bvh.closest_hit(ray)
+        match (&self.flat, self.has_alpha_tests) {
+            (Some(flat), true) => flat.closest_hit_with(ray, &|h| stops_ray(self, ray, h)),
+            (Some(flat), false) => flat.closest_hit(ray),
+            (None, true) => self.bvh.closest_hit_with(ray, &|h| stops_ray(self, ray, h)),
+            (None, false) => self.bvh.closest_hit(ray),
         }
     }
 
@@ -121,10 +127,11 @@ impl<'w> RenderScene<'w> {
     /// surfaces block it with probability alpha (so the expected visibility is the product of
     /// their 1 - alpha, as the GPU's shadow rays decide too).
     pub fn occluded(&self, ray: &Ray) -> bool {
-        if self.has_alpha_tests {
-            self.bvh.any_hit_with(ray, &|h| stops_ray(self, ray, h))
-        } else {
-            self.bvh.any_hit(ray)
+        match (&self.flat, self.has_alpha_tests) {
+            (Some(flat), true) => flat.any_hit_with(ray, &|h| stops_ray(self, ray, h)),
+            (Some(flat), false) => flat.any_hit(ray),
+            (None, true) => self.bvh.any_hit_with(ray, &|h| stops_ray(self, ray, h)),
+            (None, false) => self.bvh.any_hit(ray),
         }
     }
 }
