@@ -287,7 +287,12 @@ impl Material {
             clearcoat: p.clearcoat.clamp(0.0, 1.0),
             coat_alpha,
             coat_mirror: coat_alpha < MIRROR_ALPHA,
-            coat_frame: layers::coat_frame(p.coat_normal),
+            // Without a coat its normal is never read.
+            coat_frame: if p.clearcoat > 0.0 {
+                layers::coat_frame(p.coat_normal)
+            } else {
+                None
+            },
             transmission: p.transmission.clamp(0.0, 1.0),
             sheen_color: p.sheen_color.clamp(Vec3::ZERO, Vec3::ONE),
             sheen_roughness: p.sheen_roughness.clamp(0.0, 1.0),
