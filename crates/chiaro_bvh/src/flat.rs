@@ -236,7 +236,7 @@ mod tests {
         let mut meshes = Meshes::default();
         for (k, x) in [0.0, 3.0, far].into_iter().enumerate() {
             let data = chiaro_scene::builtin::shapes::icosphere(2, false);
-            let mesh = meshes.add(Mesh::new(&format!("ball {k}"), data).unwrap().0);
+            let mesh = meshes.add(Mesh::new(format!("ball {k}"), data).unwrap().0);
             world.spawn((
                 MeshInstance {
                     mesh,
