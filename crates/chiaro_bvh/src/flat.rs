@@ -30,6 +30,7 @@ use glam::{Affine3A, Vec2};
 use crate::blas::{Blas, Candidate};
 use crate::layout::BvhTriangle;
 use crate::object_ray::ObjectRay;
+use crate::query::CandidateHits;
 use crate::ray::{Hit, Ray};
 use crate::scene_bvh::SceneBvh;
 
@@ -113,49 +114,27 @@ impl FlatBvh {
 
     /// The nearest hit of `ray`, as [`SceneBvh::closest_hit`].
     pub fn closest_hit(&self, ray: &Ray) -> Option<Hit> {
-        self.closest_hit_filtered(ray, |_| true)
+        self.nearest_accepted(ray, |_| true)
     }
 
     /// The nearest hit that `accept` takes, as [`SceneBvh::closest_hit_with`].
     pub fn closest_hit_with(&self, ray: &Ray, accept: &dyn Fn(&Hit) -> bool) -> Option<Hit> {
-        self.closest_hit_filtered(ray, accept)
+        self.nearest_accepted(ray, accept)
     }
 
     /// True if anything is hit, as [`SceneBvh::any_hit`].
     pub fn any_hit(&self, ray: &Ray) -> bool {
-        self.any_hit_filtered(ray, |_| true)
+        self.any_accepted(ray, |_| true)
     }
 
     /// True if anything `accept` takes is hit, as [`SceneBvh::any_hit_with`].
     pub fn any_hit_with(&self, ray: &Ray, accept: &dyn Fn(&Hit) -> bool) -> bool {
-        self.any_hit_filtered(ray, accept)
+        self.any_accepted(ray, accept)
     }
+}
 
-    fn closest_hit_filtered(&self, ray: &Ray, accept: impl Fn(&Hit) -> bool) -> Option<Hit> {
-        let mut best = None;
-        self.traverse(ray, &mut |hit| {
-            if accept(&hit) {
-                best = Some(hit);
-                Candidate::Accept
-            } else {
-                Candidate::Reject
-            }
-        });
-        best
-    }
-
-    fn any_hit_filtered(&self, ray: &Ray, accept: impl Fn(&Hit) -> bool) -> bool {
-        self.traverse(ray, &mut |hit| {
-            if accept(&hit) {
-                Candidate::Stop
-            } else {
-                Candidate::Reject
-            }
-        })
-    }
-
-    /// Visits the candidates along `ray` as scene hits; true when `on_hit` stopped it.
-    fn traverse(&self, ray: &Ray, on_hit: &mut impl FnMut(Hit) -> Candidate) -> bool {
+impl CandidateHits for FlatBvh {
+    fn offer(&self, ray: &Ray, on_hit: &mut impl FnMut(Hit) -> Candidate) -> bool {
         if !ray.is_valid() || ray.t_min >= ray.t_max {
             return false;
         }

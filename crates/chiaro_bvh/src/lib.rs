@@ -74,6 +74,7 @@ pub mod instance;
 pub mod layout;
 mod object_ray;
 pub mod offset;
+mod query;
 pub mod ray;
 pub mod scene_bvh;
 pub mod slab;

@@ -13,6 +13,7 @@ use glam::{Affine3A, Vec2, Vec3};
 use crate::blas::{Blas, Candidate};
 use crate::instance::{InstanceBounds, InstanceRecord, InstanceRejection};
 use crate::object_ray::ObjectRay;
+use crate::query::CandidateHits;
 use crate::ray::{Hit, Ray};
 use crate::tlas::Tlas;
 
@@ -130,60 +131,25 @@ impl SceneBvh {
     /// The nearest hit of `ray` in `(t_min, t_max)`, or `None` (also for an invalid ray, see
     /// [`Ray::is_valid`]).
     pub fn closest_hit(&self, ray: &Ray) -> Option<Hit> {
-        self.closest_hit_filtered(ray, |_| true)
+        self.nearest_accepted(ray, |_| true)
     }
 
     /// Like [`SceneBvh::closest_hit`], but a candidate hit for which `accept` returns false is
     /// ignored, as if the triangle had a hole there (alpha masking). `accept` is called only for
     /// candidates nearer than the best accepted so far, in no particular order.
     pub fn closest_hit_with(&self, ray: &Ray, accept: &dyn Fn(&Hit) -> bool) -> Option<Hit> {
-        self.closest_hit_filtered(ray, accept)
+        self.nearest_accepted(ray, accept)
     }
 
     /// True if anything is hit in `(t_min, t_max)` (an occlusion test); stops at the first
     /// occluder found, which need not be the nearest. False for an invalid ray.
     pub fn any_hit(&self, ray: &Ray) -> bool {
-        self.any_hit_filtered(ray, |_| true)
+        self.any_accepted(ray, |_| true)
     }
 
     /// Like [`SceneBvh::any_hit`], but candidates that `accept` rejects do not occlude.
     pub fn any_hit_with(&self, ray: &Ray, accept: &dyn Fn(&Hit) -> bool) -> bool {
-        self.any_hit_filtered(ray, accept)
-    }
-
-    fn closest_hit_filtered(&self, ray: &Ray, accept: impl Fn(&Hit) -> bool) -> Option<Hit> {
-        if !ray.is_valid() || ray.t_min >= ray.t_max {
-            return None;
-        }
-        let mut best = None;
-        let mut t_max = ray.t_max;
-        self.tlas.traverse(ray, &mut t_max, &mut |instance, t_max| {
-            self.trace_instance(ray, instance, t_max, &mut |hit| {
-                if accept(&hit) {
-                    best = Some(hit);
-                    Candidate::Accept
-                } else {
-                    Candidate::Reject
-                }
-            })
-        });
-        best
-    }
-
-    fn any_hit_filtered(&self, ray: &Ray, accept: impl Fn(&Hit) -> bool) -> bool {
-        if !ray.is_valid() || ray.t_min >= ray.t_max {
-            return false;
-        }
-        let mut t_max = ray.t_max;
-        self.tlas.traverse(ray, &mut t_max, &mut |instance, t_max| {
-            self.trace_instance(ray, instance, t_max, &mut |hit| {
-                if accept(&hit) {
-                    Candidate::Stop
-                } else {
-                    Candidate::Reject
-                }
-            })
-        })
+        self.any_accepted(ray, accept)
     }
 
     /// Traverses one instance's BLAS; returns true when `on_hit` stopped it.
@@ -272,6 +238,18 @@ impl SceneBvh {
             }
         }
         self.tlas = Tlas::build(&self.bounds);
+    }
+}
+
+impl CandidateHits for SceneBvh {
+    fn offer(&self, ray: &Ray, on_hit: &mut impl FnMut(Hit) -> Candidate) -> bool {
+        if !ray.is_valid() || ray.t_min >= ray.t_max {
+            return false;
+        }
+        let mut t_max = ray.t_max;
+        self.tlas.traverse(ray, &mut t_max, &mut |instance, t_max| {
+            self.trace_instance(ray, instance, t_max, on_hit)
+        })
     }
 }
 

@@ -218,6 +218,8 @@ struct Material {
     /// The transmission lobe is a delta: a smooth surface, or a volume whose IOR matches on
     /// both sides (within [`ETA_DELTA_BAND`]), where every microfacet passes wo straight on.
     transmission_delta: bool,
+    /// Lambert's lobe alone, answered in closed form ([`lambert`]).
+    lambertian: bool,
 }
 
 /// The Fresnel weights of the lobes at one cosine: the specular lobe's colour, the diffuse
@@ -276,7 +278,7 @@ impl Material {
         } else {
             0.0
         };
-        Self {
+        let mut m = Self {
             base: p.base_color.clamp(Vec3::ZERO, Vec3::ONE),
             metallic: p.metallic.clamp(0.0, 1.0),
             f0_dielectric: (specular_color * f0_ior).min(Vec3::ONE),
@@ -299,7 +301,10 @@ impl Material {
             eta,
             transmission_delta: alpha < MIRROR_ALPHA
                 || (eta > 0.0 && (eta - 1.0).abs() < ETA_DELTA_BAND),
-        }
+            lambertian: false,
+        };
+        m.lambertian = m.is_lambertian();
+        m
     }
 
     /// The lobes' Fresnel weights at `cos` (h.wo for evaluation, n.wo for estimates):
@@ -417,6 +422,9 @@ pub fn eval(p: &SurfaceParams, wo: Vec3, wi: Vec3) -> Vec3 {
 
 /// [`eval`] for a prepared material, past its checks of `wo` and `wi`.
 fn eval_material(m: &Material, wo: Vec3, wi: Vec3) -> Vec3 {
+    if m.lambertian {
+        return m.lambert_eval(wi);
+    }
     if wi.z < 0.0 {
         return m.transmission_eval(wo, wi);
     }
@@ -441,6 +449,9 @@ pub fn pdf(p: &SurfaceParams, wo: Vec3, wi: Vec3) -> f32 {
 /// [`pdf`] for a prepared material and its lobe probabilities for `wo`, past its checks of
 /// `wo` and `wi`.
 fn pdf_material(m: &Material, wo: Vec3, wi: Vec3, probabilities: LobeProbabilities) -> f32 {
+    if m.lambertian {
+        return m.lambert_pdf(wi);
+    }
     if wi.z < 0.0 {
         return m.transmission_pdf(wo, wi, probabilities);
     }
@@ -520,6 +531,9 @@ fn sample_material(
     u_lobe: f32,
     u: Vec2,
 ) -> Option<BrdfSample> {
+    if m.lambertian {
+        return m.lambert_sample(u);
+    }
     let LobeProbabilities {
         coat: p_coat,
         sheen: p_sheen,
@@ -573,6 +587,7 @@ fn sample_material(
     })
 }
 
+mod lambert;
 mod layers;
 mod lobe_choice;
 mod prepared;

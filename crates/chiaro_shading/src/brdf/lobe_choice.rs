@@ -13,6 +13,9 @@ impl Material {
     /// weights; each split kept in [`MIN_LOBE_PROBABILITY`], 1 - [`MIN_LOBE_PROBABILITY`] when
     /// both sides exist, exactly 0 or 1 when only one does.
     pub(super) fn lobe_probabilities(&self, wo: Vec3) -> LobeProbabilities {
+        if self.lambertian {
+            return super::lambert::DIFFUSE_ONLY;
+        }
         let wo_z = wo.z;
         let weights = self.fresnel(wo_z);
         let specular = luminance(weights.specular);
