@@ -55,7 +55,8 @@ pub struct BenchArgs {
     /// realtime-no-denoise, realtime-spp2, realtime-spp4, realtime-bounces1,
     /// realtime-bounces2, naive, reference); also known: direct-power, realtime-power,
     /// realtime-all-features, realtime-moving-average, realtime-restir-di, realtime-restir-gi,
-    /// realtime-restir-gi-temporal (with last frame's reservoirs), realtime-restir (both).
+    /// realtime-restir-gi-temporal (with last frame's reservoirs), realtime-restir-gi-unbiased
+    /// (pairwise MIS with visibility), realtime-restir (both).
     #[arg(long, value_delimiter = ',')]
     configs: Vec<String>,
     /// Leaves out the realtime run along the scripted camera path (`realtime-path`: the

@@ -90,7 +90,13 @@ fn gi_resampling_start(own: GiSample, here: f32, count: u32) -> GiResampling {
 // and finite adds its count only.
 fn gi_resampling_add(r: ptr<function, GiResampling>, sample: GiSample, here: f32, count: u32, rand: f32) -> bool {
     (*r).count += count;
-    let weight = here * sample.weight * f32(count);
+    return gi_resampling_add_weighted(r, sample, here, f32(count), rand);
+}
+
+// Adds a sample of target `here` at the shading point with the MIS weight (or count) `m`,
+// kept with the number `rand`; true if it is kept. The count is left to the caller.
+fn gi_resampling_add_weighted(r: ptr<function, GiResampling>, sample: GiSample, here: f32, m: f32, rand: f32) -> bool {
+    let weight = here * sample.weight * m;
     if !(weight > 0.0) || !f32_is_finite(weight) {
         return false;
     }

@@ -154,17 +154,19 @@ impl Default for DenoiseSettings {
     }
 }
 
-/// How the spatial reuse of resampled direct light weighs its merged reservoirs
-/// (`shaders/restir_spatial.wgsl`).
+/// How the spatial reuse of resampled light weighs its merged reservoirs: direct light's
+/// (`shaders/restir_spatial.wgsl`) and indirect light's (`shaders/restir_gi_spatial.wgsl`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum RestirBias {
     /// Each by its count M, the sum normalised by the total (Bitterli et al. 2020): darker
-    /// where a neighbour cannot produce the sample kept (below its horizon: creases). A still view that converges
+    /// where a neighbour cannot produce the sample kept (below its horizon: creases; for
+    /// indirect light also where it cannot see it). A still view that converges
     /// ([`DenoiseSettings::converge_when_still`]) is weighed as `Unbiased` all the same.
     #[default]
     Biased,
-    /// By the generalised balance heuristic over the reservoirs' surfaces (Lin et al. 2022):
-    /// the square of the reservoirs' count in target evaluations, no extra ray.
+    /// Direct light: by the generalised balance heuristic over the reservoirs' surfaces (Lin et
+    /// al. 2022), the square of the reservoirs' count in target evaluations, no extra ray.
+    /// Indirect light: by pairwise MIS over targets with visibility, two rays a neighbour.
     Unbiased,
 }
 
@@ -201,15 +203,15 @@ pub struct RestirSettings {
     pub spatial_samples: u32,
     /// Radius of the disc the neighbours are drawn from, in pixels.
     pub spatial_radius: f32,
-    /// How spatial reuse is normalised.
+    /// How spatial reuse is normalised, for direct and indirect light.
     pub bias: RestirBias,
     /// Whether the realtime mode resamples its indirect light (ReSTIR GI: Ouyang et al.,
     /// "ReSTIR GI: Path Resampling for Real-Time Path Tracing", HPG 2021): each pixel's path
     /// is kept as a sample of its first bounce's point and the light that point reflects,
     /// merged with last frame's reservoir (`indirect_history_cap`), and each pixel shades the
-    /// survivor of its own and `indirect_spatial_samples` neighbours' reservoirs
-    /// (`shaders/restir_gi_spatial.wgsl`). Needs `spp` = 1. A still view that converges reuses
-    /// nothing, so its mean is the path tracer's.
+    /// survivor of its own and `indirect_spatial_samples` neighbours' reservoirs, weighted as
+    /// `bias` says (`shaders/restir_gi_spatial.wgsl`). Needs `spp` = 1. A still view that
+    /// converges reuses nothing, so its mean is the path tracer's.
     pub indirect: bool,
     /// Neighbours whose indirect samples each pixel resamples (0: none), at most
     /// [`MAX_RESTIR_NEIGHBOURS`], drawn in the disc of `spatial_radius`.

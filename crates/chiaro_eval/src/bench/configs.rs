@@ -2,7 +2,7 @@
 //! named, and the runs along the camera path that go with them.
 
 use chiaro_gpu::settings::LightSampling;
-use chiaro_gpu::{FrameSettings, PipelineChoice, RenderMode, RenderSettings};
+use chiaro_gpu::{FrameSettings, PipelineChoice, RenderMode, RenderSettings, RestirBias};
 
 use super::camera_path::PATH_CONFIG;
 
@@ -22,6 +22,9 @@ pub const RESTIR_GI_CONFIG: &str = "realtime-restir-gi";
 /// The realtime configuration with resampled indirect light and temporal reuse of its
 /// reservoirs (history cap 20).
 pub const RESTIR_GI_TEMPORAL_CONFIG: &str = "realtime-restir-gi-temporal";
+/// The realtime configuration with resampled indirect light weighted by pairwise MIS with
+/// visibility ([`chiaro_gpu::RestirBias::Unbiased`]).
+pub const RESTIR_GI_UNBIASED_CONFIG: &str = "realtime-restir-gi-unbiased";
 /// The realtime configuration with resampled direct and indirect light.
 pub const RESTIR_CONFIG: &str = "realtime-restir";
 
@@ -66,7 +69,8 @@ pub fn default_configs() -> Vec<BenchConfig> {
 /// and realtime with lights picked by power instead of through the light trees (the
 /// many-lights baseline), realtime whose still view keeps the moving average's memory
 /// (what [`chiaro_gpu::still_view`] buys), and realtime with resampled direct light, indirect
-/// light (with and without temporal reuse) or both ([`chiaro_gpu::RestirSettings`]).
+/// light (with and without temporal reuse, by counts or by pairwise MIS) or both
+/// ([`chiaro_gpu::RestirSettings`]).
 pub fn extra_configs() -> Vec<BenchConfig> {
     let realtime = FrameSettings::default();
     let power = LightSampling::Power;
@@ -78,6 +82,8 @@ pub fn extra_configs() -> Vec<BenchConfig> {
     restir_gi.restir.indirect = true;
     let mut restir_gi_temporal = restir_gi;
     restir_gi_temporal.restir.indirect_history_cap = 20;
+    let mut restir_gi_unbiased = restir_gi;
+    restir_gi_unbiased.restir.bias = RestirBias::Unbiased;
     let mut restir = restir_di;
     restir.restir.indirect = true;
     configs([
@@ -107,6 +113,7 @@ pub fn extra_configs() -> Vec<BenchConfig> {
         (RESTIR_DI_CONFIG, restir_di),
         (RESTIR_GI_CONFIG, restir_gi),
         (RESTIR_GI_TEMPORAL_CONFIG, restir_gi_temporal),
+        (RESTIR_GI_UNBIASED_CONFIG, restir_gi_unbiased),
         (RESTIR_CONFIG, restir),
     ])
 }
@@ -122,6 +129,7 @@ pub(super) fn path_configs(configs: &[BenchConfig]) -> Vec<BenchConfig> {
         RESTIR_DI_CONFIG,
         RESTIR_GI_CONFIG,
         RESTIR_GI_TEMPORAL_CONFIG,
+        RESTIR_GI_UNBIASED_CONFIG,
         RESTIR_CONFIG,
     ];
     paths.extend(

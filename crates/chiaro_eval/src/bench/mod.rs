@@ -30,7 +30,7 @@ use chiaro_scene::Transform;
 use configs::path_configs;
 pub use configs::{
     ALL_FEATURES_CONFIG, BenchConfig, RESTIR_CONFIG, RESTIR_DI_CONFIG, RESTIR_GI_CONFIG,
-    RESTIR_GI_TEMPORAL_CONFIG, default_configs, extra_configs,
+    RESTIR_GI_TEMPORAL_CONFIG, RESTIR_GI_UNBIASED_CONFIG, default_configs, extra_configs,
 };
 pub use reference_cache::{Reference, ReferenceRenderer, converged_reference};
 use results::{BenchResults, Checkpoint, RunResult, SceneResult};
