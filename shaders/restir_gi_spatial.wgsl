@@ -91,9 +91,14 @@ fn gi_target_at(s: Shading, other: vec3<f32>, sample: GiSample, test_visibility:
     if !(value > 0.0) || !test_visibility {
         return max(value, 0.0);
     }
+    return select(0.0, value, gi_sees(s, sample));
+}
+
+// Whether nothing blocks the way from s to the sample's point.
+fn gi_sees(s: Shading, sample: GiSample) -> bool {
     let to_point = sample.point - s.position;
     let distance = length(to_point);
-    return select(0.0, value, unoccluded(s, to_point / distance, distance));
+    return unoccluded(s, to_point / distance, distance);
 }
 
 // The balance heuristic's weight of the technique whose weighted density is `a` against one of
@@ -132,12 +137,8 @@ fn resample_by_counts(pixel: vec2<i32>, size: vec2<u32>, s: Shading, depth: f32,
         return vec3<f32>(0.0);
     }
     let kept = r.kept;
-    if !kept_own {
-        let to_point = kept.point - s.position;
-        let distance = length(to_point);
-        if !unoccluded(s, to_point / distance, distance) {
-            return gi_value(s, own) * own.weight;
-        }
+    if !kept_own && !gi_sees(s, kept) {
+        return gi_value(s, own) * own.weight;
     }
     return gi_value(s, kept) * contribution_weight;
 }
